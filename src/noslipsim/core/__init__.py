@@ -1,0 +1,1 @@
+"""Compiled kernels on plain arrays: no Python objects, no I/O, no randomness (DESIGN section 3)."""

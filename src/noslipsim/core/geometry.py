@@ -1,0 +1,153 @@
+"""Per-kind geometry of boundary elements (the protocol every kind implements).
+
+For each kind: the crossing polynomial along a flight (positive on the table
+side), the signed distance, the extent test (ends inclusive within a
+tolerance), the projection onto the element with the outward unit normal, and
+the arclength coordinate.  Adding an element kind touches only this module.
+
+Frame convention (DESIGN section 2): ``n`` is the *outward* unit normal (out of
+the table, into the wall) and the tangent is ``t = J n = (-n_y, n_x)``.
+"""
+import math
+
+from .jit import jit
+from .layout import ARC, CIRCLE, LINE, SEGMENT
+
+TWO_PI = 2.0 * math.pi
+
+
+@jit
+def crossing_coefficients(kind, p, x, y, vx, vy, ax, ay):
+    """Coefficients ``(c0, ..., c4)`` of the crossing polynomial of element ``p`` along a flight.
+
+    Lines and segments: signed distance ``(q(t) - p) . n_in`` (degree <= 2).
+    Circles and arcs: ``sigma (|q(t) - c|^2 - r^2)`` (degree <= 4; <= 2 without force).
+    """
+    if kind == LINE or kind == SEGMENT:
+        nx = p[2]
+        ny = p[3]
+        c0 = (x - p[0]) * nx + (y - p[1]) * ny
+        return c0, vx * nx + vy * ny, 0.5 * (ax * nx + ay * ny), 0.0, 0.0
+    sig = p[3]
+    dx = x - p[0]
+    dy = y - p[1]
+    r = p[2]
+    c0 = sig * ((dx * dx + dy * dy) - r * r)
+    c1 = sig * 2.0 * (dx * vx + dy * vy)
+    c2 = sig * ((vx * vx + vy * vy) + (dx * ax + dy * ay))
+    c3 = sig * (vx * ax + vy * ay)
+    c4 = sig * 0.25 * (ax * ax + ay * ay)
+    return c0, c1, c2, c3, c4
+
+
+@jit
+def signed_distance(kind, p, x, y):
+    """Distance to the element's supporting line or circle, positive on the table side."""
+    if kind == LINE or kind == SEGMENT:
+        return (x - p[0]) * p[2] + (y - p[1]) * p[3]
+    return p[3] * (math.hypot(x - p[0], y - p[1]) - p[2])
+
+
+@jit
+def distance_rate(kind, p, x, y, vx, vy):
+    """Time derivative of :func:`signed_distance` for a particle at ``(x, y)`` with velocity ``v``."""
+    if kind == LINE or kind == SEGMENT:
+        return vx * p[2] + vy * p[3]
+    dx = x - p[0]
+    dy = y - p[1]
+    return p[3] * (dx * vx + dy * vy) / math.hypot(dx, dy)
+
+
+@jit
+def extent_coordinate(kind, p, x, y):
+    """Position along a segment (from p0) or CCW angle past theta0 on an arc; 0 for lines and circles."""
+    if kind == SEGMENT:
+        return (x - p[0]) * p[4] + (y - p[1]) * p[5]
+    if kind == ARC:
+        ang = math.atan2(y - p[1], x - p[0]) - p[4]
+        ang = ang % TWO_PI
+        return ang
+    return 0.0
+
+
+@jit
+def extent_position(kind, p, x, y, tol):
+    """Where ``(x, y)`` lies in the element's extent: -1 outside, 0 interior, 1 at the start, 2 at the end.
+
+    ``tol`` is an absolute length: ends are inclusive within it.
+    """
+    if kind == SEGMENT:
+        u = (x - p[0]) * p[4] + (y - p[1]) * p[5]
+        L = p[6]
+        if u < -tol or u > L + tol:
+            return -1
+        if u <= tol:
+            return 1
+        if u >= L - tol:
+            return 2
+        return 0
+    if kind == ARC:
+        ang = extent_coordinate(kind, p, x, y)
+        span = p[5]
+        atol = tol / p[2]
+        if ang <= atol or ang >= TWO_PI - atol:
+            return 1
+        if span - atol <= ang <= span + atol:
+            return 2
+        if ang < span:
+            return 0
+        return -1
+    return 0
+
+
+@jit
+def extent_rate(kind, p, x, y, vx, vy):
+    """Rate of the extent coordinate (moving towards the end is positive)."""
+    if kind == SEGMENT:
+        return vx * p[4] + vy * p[5]
+    if kind == ARC:
+        dx = x - p[0]
+        dy = y - p[1]
+        return (dx * vy - dy * vx) / (dx * dx + dy * dy)
+    return 0.0
+
+
+@jit
+def place_on_element(kind, p, x, y):
+    """Project ``(x, y)`` onto the element: returns ``(x', y', nx, ny)`` with ``n`` the outward unit normal.
+
+    Lines are projected orthogonally, circles radially, so the particle sits
+    on the boundary to rounding and never on the far side by more.
+    """
+    if kind == LINE or kind == SEGMENT:
+        nx = p[2]
+        ny = p[3]
+        d = (x - p[0]) * nx + (y - p[1]) * ny
+        return x - d * nx, y - d * ny, -nx, -ny
+    dx = x - p[0]
+    dy = y - p[1]
+    rho = math.hypot(dx, dy)
+    ux = dx / rho
+    uy = dy / rho
+    r = p[2]
+    sig = p[3]
+    return p[0] + r * ux, p[1] + r * uy, -sig * ux, -sig * uy
+
+
+@jit
+def arclength(kind, p, x, y):
+    """Boundary coordinate ``s`` of a point on the element.
+
+    Line: signed distance from its point along ``t = J n``; segment: distance
+    from ``p0``; circle: ``r`` times the CCW angle in ``[0, 2 pi)``; arc: ``r``
+    times the CCW angle past ``theta0``.
+    """
+    if kind == LINE:
+        # t = J n_out = J(-n_in) = (n_in_y, -n_in_x)
+        return (x - p[0]) * p[3] - (y - p[1]) * p[2]
+    if kind == SEGMENT:
+        return (x - p[0]) * p[4] + (y - p[1]) * p[5]
+    if kind == CIRCLE:
+        ang = math.atan2(y - p[1], x - p[0]) % TWO_PI
+        return p[2] * ang
+    return p[2] * extent_coordinate(kind, p, x, y)

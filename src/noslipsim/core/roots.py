@@ -1,0 +1,229 @@
+"""Exit roots of the crossing polynomial along a flight.
+
+A flight crosses an element where its crossing polynomial
+``p(t) = c0 + c1 t + c2 t^2 + c3 t^3 + c4 t^4`` (positive on the table side)
+changes sign from + to -.  Only those *exit* roots in ``(0, hi]`` matter.
+
+Linear and quadratic polynomials use closed forms (the cancellation-free
+quadratic formula).  Cubics and quartics are isolated exactly: the real roots
+of the derivative split ``[0, hi]`` into monotone pieces, each holding at most
+one root, which safeguarded Newton (bisection fallback) polishes to full
+precision.  No coefficient is compared against an epsilon: the degree is
+chosen by the caller from what the scene needs, and only exact zeros of a
+leading coefficient drop the degree.
+"""
+import math
+
+from .jit import jit
+from .tolerances import ROOT_MAX_ITER
+
+INF = math.inf
+EPS = 2.220446049250313e-16
+
+
+@jit
+def horner(c0, c1, c2, c3, c4, t):
+    return (((c4 * t + c3) * t + c2) * t + c1) * t + c0
+
+
+@jit
+def horner_prime(c1, c2, c3, c4, t):
+    return ((4.0 * c4 * t + 3.0 * c3) * t + 2.0 * c2) * t + c1
+
+
+@jit
+def cauchy_bound(c0, c1, c2, c3, c4, deg):
+    """Upper bound on the modulus of every root of a polynomial of degree ``deg``."""
+    if deg == 4:
+        lead = abs(c4)
+        m = max(abs(c0), abs(c1), abs(c2), abs(c3))
+    elif deg == 3:
+        lead = abs(c3)
+        m = max(abs(c0), abs(c1), abs(c2))
+    elif deg == 2:
+        lead = abs(c2)
+        m = max(abs(c0), abs(c1))
+    else:
+        lead = abs(c1)
+        m = abs(c0)
+    return 1.0 + m / lead
+
+
+@jit
+def polish(c0, c1, c2, c3, c4, a, b, fa):
+    """Root of ``p`` in ``[a, b]`` where ``p`` is monotone and ``p(a)`` (= ``fa``), ``p(b)`` differ in sign."""
+    sa = fa > 0.0
+    fb = horner(c0, c1, c2, c3, c4, b)
+    # regula falsi start: exact for a straight piece, safe otherwise
+    t = a + (b - a) * (fa / (fa - fb))
+    if not (a < t < b):
+        t = 0.5 * (a + b)
+    for _ in range(ROOT_MAX_ITER):
+        f = horner(c0, c1, c2, c3, c4, t)
+        if f == 0.0:
+            return t
+        if (f > 0.0) == sa:
+            a = t
+        else:
+            b = t
+        d = horner_prime(c1, c2, c3, c4, t)
+        tn = t - f / d if d != 0.0 else 0.5 * (a + b)
+        if not (a <= tn <= b):
+            tn = 0.5 * (a + b)
+        if abs(tn - t) <= 2.0 * EPS * abs(tn) or b - a <= 2.0 * EPS * max(abs(a), abs(b)):
+            return tn
+        t = tn
+    return t
+
+
+@jit
+def quadratic_roots(c0, c1, c2):
+    """Real roots of ``c0 + c1 t + c2 t^2`` as ``(n, r1, r2)``, sorted (a double root counts once)."""
+    if c2 == 0.0:
+        if c1 == 0.0:
+            return 0, INF, INF
+        return 1, -c0 / c1, INF
+    disc = c1 * c1 - 4.0 * c2 * c0
+    if disc < 0.0:
+        return 0, INF, INF
+    if disc == 0.0:
+        return 1, -c1 / (2.0 * c2), INF
+    sq = math.sqrt(disc)
+    q = -0.5 * (c1 + sq) if c1 >= 0.0 else -0.5 * (c1 - sq)
+    r1 = q / c2
+    r2 = c0 / q if q != 0.0 else -r1
+    if r1 > r2:
+        r1, r2 = r2, r1
+    return 2, r1, r2
+
+
+@jit
+def linear_exit(c0, c1, hi):
+    """Exit root of ``c0 + c1 t`` in ``(0, hi]`` or inf."""
+    if c1 < 0.0 and c0 > 0.0:
+        t = -c0 / c1
+        if t <= hi:
+            return t
+    return INF
+
+
+@jit
+def quadratic_exit(c0, c1, c2, hi):
+    """Exit root of ``c0 + c1 t + c2 t^2`` in ``(0, hi]`` or inf (a quadratic has at most one)."""
+    if c2 == 0.0:
+        return linear_exit(c0, c1, hi)
+    n, r1, r2 = quadratic_roots(c0, c1, c2)
+    if n < 2:  # no root or a tangency: the flight never leaves
+        return INF
+    t = r1 if c2 > 0.0 else r2
+    if 0.0 < t <= hi:
+        return t
+    return INF
+
+
+@jit
+def _exits_on_pieces(c0, c1, c2, c3, c4, k1, k2, k3, hi):
+    """Up to two exit roots of ``p`` in ``(0, hi]`` given its sorted critical points ``k1..k3`` (inf padded)."""
+    e1 = INF
+    e2 = INF
+    a = 0.0
+    fa = c0
+    for i in range(4):
+        if i == 0:
+            b = k1
+        elif i == 1:
+            b = k2
+        elif i == 2:
+            b = k3
+        else:
+            b = hi
+        if b <= a:
+            continue
+        if b > hi:
+            b = hi
+        fb = horner(c0, c1, c2, c3, c4, b)
+        if fa > 0.0 and fb < 0.0:
+            r = polish(c0, c1, c2, c3, c4, a, b, fa)
+            if e1 == INF:
+                e1 = r
+            else:
+                e2 = r
+        a = b
+        fa = fb
+        if a >= hi:
+            break
+    return e1, e2
+
+
+@jit
+def cubic_roots_in(c0, c1, c2, c3, lo, hi):
+    """Real roots of a cubic in ``[lo, hi]`` (finite), sorted and inf padded: ``(r1, r2, r3)``."""
+    if c3 == 0.0:
+        n, q1, q2 = quadratic_roots(c0, c1, c2)
+        r1 = q1 if (n >= 1 and lo <= q1 <= hi) else INF
+        r2 = q2 if (n >= 2 and lo <= q2 <= hi) else INF
+        if r1 == INF:
+            r1, r2 = r2, INF
+        return r1, r2, INF
+    _, k1, k2 = quadratic_roots(c1, 2.0 * c2, 3.0 * c3)
+    out1 = INF
+    out2 = INF
+    out3 = INF
+    a = lo
+    fa = horner(c0, c1, c2, c3, 0.0, a)
+    for i in range(3):
+        if i == 0:
+            b = k1
+        elif i == 1:
+            b = k2
+        else:
+            b = hi
+        if b <= a:
+            continue
+        if b > hi:
+            b = hi
+        fb = horner(c0, c1, c2, c3, 0.0, b)
+        r = INF
+        if fa == 0.0:
+            r = a
+        elif (fa > 0.0) != (fb > 0.0) and fb != 0.0:
+            r = polish(c0, c1, c2, c3, 0.0, a, b, fa)
+        elif fb == 0.0:
+            r = b
+        if r != INF and r != out1 and r != out2:
+            if out1 == INF:
+                out1 = r
+            elif out2 == INF:
+                out2 = r
+            else:
+                out3 = r
+        a = b
+        fa = fb
+        if a >= hi:
+            break
+    return out1, out2, out3
+
+
+@jit
+def cubic_exits(c0, c1, c2, c3, hi):
+    """Exit roots ``(e1, e2)`` of a cubic in ``(0, hi]`` (inf padded)."""
+    if c3 == 0.0:
+        return quadratic_exit(c0, c1, c2, hi), INF
+    if hi == INF:
+        hi = cauchy_bound(c0, c1, c2, c3, 0.0, 3)
+    n, k1, k2 = quadratic_roots(c1, 2.0 * c2, 3.0 * c3)
+    if n < 2:
+        k1 = INF
+        k2 = INF
+    return _exits_on_pieces(c0, c1, c2, c3, 0.0, k1, k2, INF, hi)
+
+
+@jit
+def quartic_exits(c0, c1, c2, c3, c4, hi):
+    """Exit roots ``(e1, e2)`` of a quartic in ``(0, hi]`` (inf padded)."""
+    if c4 == 0.0:
+        return cubic_exits(c0, c1, c2, c3, hi)
+    if hi == INF:
+        hi = cauchy_bound(c0, c1, c2, c3, c4, 4)
+    k1, k2, k3 = cubic_roots_in(c1, 2.0 * c2, 3.0 * c3, 4.0 * c4, 0.0, hi)
+    return _exits_on_pieces(c0, c1, c2, c3, c4, k1, k2, k3, hi)

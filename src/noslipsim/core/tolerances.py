@@ -1,0 +1,25 @@
+"""Named tolerances of the event engine (all relative, nondimensional).
+
+Each is multiplied by a length scale (the scene's size or the current
+position's magnitude, whichever is larger) before use, so the engine is
+scale invariant.
+"""
+
+#: A hit is inside a segment or arc if its extent coordinate lies within
+#: ``EXTENT_TOL * scale`` of the nominal range: ends are inclusive, so two
+#: pieces sharing a vertex overlap there and a flight aimed at the vertex
+#: cannot pass between them.
+EXTENT_TOL = 1e-11
+
+#: After a collision, another element whose signed distance at the new
+#: position is within ``CONTACT_TOL * scale`` and which the velocity leaves
+#: through is hit immediately (the corner rule).
+CONTACT_TOL = 1e-11
+
+#: Safeguarded Newton iterations per root (bisection fallback halves the
+#: bracket at every failed step, so 200 steps exhaust float64).
+ROOT_MAX_ITER = 200
+
+#: Consecutive zero-time corner collisions allowed before the orbit stops
+#: with stop reason ``corner`` (a corner of angle pi/k needs k of them).
+MAX_CORNER_BOUNCES = 64

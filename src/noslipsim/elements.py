@@ -1,0 +1,279 @@
+"""Boundary elements of a billiard table: lines, segments, circles and arcs.
+
+Each element knows its table side, validates itself, writes its kernel row
+(:mod:`noslipsim.core.layout`) and measures points for the inside test.  The
+scene-file form of each is given in DESIGN section 4:
+
+- ``{type: line, point: [x, y], normal: [nx, ny]}``: infinite line, ``normal``
+  points INTO the table (normalised on construction);
+- ``{type: segment, p0: [x, y], p1: [x, y], side: left}``: one-sided, the table is
+  on the ``side`` of ``p0 -> p1`` (CCW polygons use ``left``); ends inclusive;
+- ``{type: circle, center: [x, y], radius: r, side: outside}``: ``outside`` for a
+  scatterer, ``inside`` for a container;
+- ``{type: arc, center, radius, theta0, theta1, side}``: the CCW arc from
+  ``theta0`` to ``theta1`` (radians, ``0 < theta1 - theta0 <= 2 pi``).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._unit import unit_pair
+from ._validate import finite_float, finite_vector, no_unknown_keys, required
+from .core import layout
+
+TWO_PI = 2.0 * math.pi
+
+
+def _set(obj, **values):
+    for k, v in values.items():
+        object.__setattr__(obj, k, v)
+
+
+def _floats(arr):
+    return tuple(float(v) for v in arr)
+
+
+def _radius(value, where):
+    r = finite_float(value, f"{where}.radius")
+    if r <= 0.0:
+        raise ValueError(f"{where}.radius: must be > 0, got {r}")
+    return r
+
+
+def _build(cls, where, **fields):
+    """Construct from file fields so that validation errors name the element's place in the file."""
+    obj = cls.__new__(cls)
+    _set(obj, **fields)
+    obj.__post_init__(where)
+    return obj
+
+
+def _side(value, allowed, field):
+    if value not in allowed:
+        raise ValueError(f"{field}: must be one of {list(allowed)}, got {value!r}")
+    return value
+
+
+@dataclass(frozen=True)
+class Line:
+    """Infinite line through ``point``; ``normal`` is the unit normal into the table."""
+
+    point: tuple
+    normal: tuple
+    kind = layout.LINE
+    type_name = "line"
+    finite = False
+
+    def __post_init__(self, where="line"):
+        point = finite_vector(self.point, f"{where}.point")
+        normal = finite_vector(self.normal, f"{where}.normal")
+        if normal[0] == 0.0 and normal[1] == 0.0:
+            raise ValueError(f"{where}.normal: must be nonzero")
+        _set(self, point=_floats(point), normal=unit_pair(*normal))
+
+    @classmethod
+    def from_dict(cls, d, where="element"):
+        no_unknown_keys(d, {"type", "point", "normal"}, where)
+        return _build(cls, where, point=required(d, "point", where), normal=required(d, "normal", where))
+
+    def to_dict(self):
+        return {"type": "line", "point": list(self.point), "normal": list(self.normal)}
+
+    def params(self):
+        return [*self.point, *self.normal]
+
+    def size(self):
+        return max(abs(self.point[0]), abs(self.point[1]))
+
+    def side_distance(self, pts):
+        """Signed distance to the supporting line, positive on the table side."""
+        return (pts[..., 0] - self.point[0]) * self.normal[0] + (pts[..., 1] - self.point[1]) * self.normal[1]
+
+    def length(self):
+        return math.inf
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One-sided segment ``p0 -> p1``; the table lies on ``side`` ('left' or 'right')."""
+
+    p0: tuple
+    p1: tuple
+    side: str = "left"
+    kind = layout.SEGMENT
+    type_name = "segment"
+    finite = True
+
+    def __post_init__(self, where="segment"):
+        p0 = finite_vector(self.p0, f"{where}.p0")
+        p1 = finite_vector(self.p1, f"{where}.p1")
+        if np.array_equal(p0, p1):
+            raise ValueError(f"{where}: zero-length segment (p0 == p1 == {p0.tolist()})")
+        _side(self.side, ("left", "right"), f"{where}.side")
+        _set(self, p0=_floats(p0), p1=_floats(p1))
+
+    @classmethod
+    def from_dict(cls, d, where="element"):
+        no_unknown_keys(d, {"type", "p0", "p1", "side"}, where)
+        return _build(cls, where, p0=required(d, "p0", where), p1=required(d, "p1", where),
+                      side=d.get("side", "left"))
+
+    def to_dict(self):
+        return {"type": "segment", "p0": list(self.p0), "p1": list(self.p1), "side": self.side}
+
+    def _frame(self):
+        dx, dy = self.p1[0] - self.p0[0], self.p1[1] - self.p0[1]
+        L = math.hypot(dx, dy)
+        ux, uy = unit_pair(dx, dy)
+        sgn = 1.0 if self.side == "left" else -1.0
+        return ux, uy, -sgn * uy, sgn * ux, L
+
+    def params(self):
+        ux, uy, nx, ny, L = self._frame()
+        return [self.p0[0], self.p0[1], nx, ny, ux, uy, L]
+
+    def size(self):
+        return max(abs(c) for c in (*self.p0, *self.p1))
+
+    def length(self):
+        return self._frame()[4]
+
+    def side_distance(self, pts):
+        _, _, nx, ny, _ = self._frame()
+        return (pts[..., 0] - self.p0[0]) * nx + (pts[..., 1] - self.p0[1]) * ny
+
+    def distance(self, pts):
+        """Euclidean distance to the segment (a finite set)."""
+        ux, uy, _, _, L = self._frame()
+        rx, ry = pts[..., 0] - self.p0[0], pts[..., 1] - self.p0[1]
+        u = np.clip(rx * ux + ry * uy, 0.0, L)
+        return np.hypot(rx - u * ux, ry - u * uy)
+
+
+@dataclass(frozen=True)
+class Circle:
+    """Full circle; ``side='outside'`` is a scatterer, ``'inside'`` a container."""
+
+    center: tuple
+    radius: float
+    side: str = "outside"
+    kind = layout.CIRCLE
+    type_name = "circle"
+    finite = False  # a full circle bounds the table globally, like a line
+
+    def __post_init__(self, where="circle"):
+        center = finite_vector(self.center, f"{where}.center")
+        radius = _radius(self.radius, where)
+        _side(self.side, ("outside", "inside"), f"{where}.side")
+        _set(self, center=_floats(center), radius=radius)
+
+    @classmethod
+    def from_dict(cls, d, where="element"):
+        no_unknown_keys(d, {"type", "center", "radius", "side"}, where)
+        return _build(cls, where, center=required(d, "center", where),
+                      radius=required(d, "radius", where), side=d.get("side", "outside"))
+
+    def to_dict(self):
+        return {"type": "circle", "center": list(self.center), "radius": self.radius, "side": self.side}
+
+    @property
+    def sigma(self):
+        return 1.0 if self.side == "outside" else -1.0
+
+    def params(self):
+        return [self.center[0], self.center[1], self.radius, self.sigma]
+
+    def size(self):
+        return max(abs(self.center[0]) + self.radius, abs(self.center[1]) + self.radius)
+
+    def length(self):
+        return TWO_PI * self.radius
+
+    def side_distance(self, pts):
+        rho = np.hypot(pts[..., 0] - self.center[0], pts[..., 1] - self.center[1])
+        return self.sigma * (rho - self.radius)
+
+
+@dataclass(frozen=True)
+class Arc:
+    """CCW arc of a circle from ``theta0`` to ``theta1`` (radians); table on ``side``."""
+
+    center: tuple
+    radius: float
+    theta0: float
+    theta1: float
+    side: str = "inside"
+    kind = layout.ARC
+    type_name = "arc"
+    finite = True
+
+    def __post_init__(self, where="arc"):
+        center = finite_vector(self.center, f"{where}.center")
+        radius = _radius(self.radius, where)
+        theta0 = finite_float(self.theta0, f"{where}.theta0")
+        theta1 = finite_float(self.theta1, f"{where}.theta1")
+        if theta1 <= theta0:
+            raise ValueError(f"{where}.theta1: must exceed theta0 (arcs run CCW), got {theta0} -> {theta1}")
+        if theta1 - theta0 > TWO_PI:
+            raise ValueError(f"{where}: arc span {theta1 - theta0} exceeds 2 pi")
+        _side(self.side, ("outside", "inside"), f"{where}.side")
+        _set(self, center=_floats(center), radius=radius, theta0=theta0, theta1=theta1)
+
+    @classmethod
+    def from_dict(cls, d, where="element"):
+        no_unknown_keys(d, {"type", "center", "radius", "theta0", "theta1", "side"}, where)
+        return _build(cls, where, center=required(d, "center", where),
+                      radius=required(d, "radius", where), theta0=required(d, "theta0", where),
+                      theta1=required(d, "theta1", where), side=d.get("side", "inside"))
+
+    def to_dict(self):
+        return {"type": "arc", "center": list(self.center), "radius": self.radius,
+                "theta0": self.theta0, "theta1": self.theta1, "side": self.side}
+
+    @property
+    def sigma(self):
+        return 1.0 if self.side == "outside" else -1.0
+
+    def params(self):
+        return [self.center[0], self.center[1], self.radius, self.sigma,
+                self.theta0 % TWO_PI, self.theta1 - self.theta0]
+
+    def size(self):
+        return max(abs(self.center[0]) + self.radius, abs(self.center[1]) + self.radius)
+
+    def length(self):
+        return self.radius * (self.theta1 - self.theta0)
+
+    def endpoints(self):
+        c, r = self.center, self.radius
+        return [(c[0] + r * math.cos(a), c[1] + r * math.sin(a)) for a in (self.theta0, self.theta1)]
+
+    def side_distance(self, pts):
+        rho = np.hypot(pts[..., 0] - self.center[0], pts[..., 1] - self.center[1])
+        return self.sigma * (rho - self.radius)
+
+    def distance(self, pts):
+        dx, dy = pts[..., 0] - self.center[0], pts[..., 1] - self.center[1]
+        rel = (np.arctan2(dy, dx) - self.theta0) % TWO_PI
+        on_span = rel <= self.theta1 - self.theta0
+        d_curve = np.abs(np.hypot(dx, dy) - self.radius)
+        (ax, ay), (bx, by) = self.endpoints()
+        d_ends = np.minimum(np.hypot(pts[..., 0] - ax, pts[..., 1] - ay),
+                            np.hypot(pts[..., 0] - bx, pts[..., 1] - by))
+        return np.where(on_span, d_curve, d_ends)
+
+
+ELEMENT_TYPES = {cls.type_name: cls for cls in (Line, Segment, Circle, Arc)}
+
+
+def element_from_dict(d, where="element"):
+    """Build an element from its scene-file mapping."""
+    if not isinstance(d, dict):
+        raise ValueError(f"{where}: expected a mapping, got {type(d).__name__}")
+    kind = d.get("type")
+    if kind not in ELEMENT_TYPES:
+        raise ValueError(f"{where}.type: unknown element type {kind!r}; expected one of {sorted(ELEMENT_TYPES)}")
+    return ELEMENT_TYPES[kind].from_dict(d, where)

@@ -1,0 +1,192 @@
+"""Scenes: a table (boundary elements), a collision law, a mass distribution and a force.
+
+A scene is the public way to define a billiard (DESIGN section 4)::
+
+    law: no-slip            # or specular
+    gamma: 0.7071067811865476
+    force: [0.0, -1.0]
+    elements: [...]          # see noslipsim.elements
+    lattice: {a1: [1, 0], a2: [0, 1]}   # optional: periodic repetition
+
+The table is the set of points on the table side of every line and full
+circle and of the nearest segment or arc (for a closed polygon this is its
+interior; at a shared vertex both pieces agree).
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+from dataclasses import dataclass, field
+
+import numpy as np
+import yaml
+
+from ._unit import unit_pair
+from ._validate import finite_float, finite_vector, no_unknown_keys, required
+from .core import layout
+from .core.laws import noslip_coefficients
+from .elements import element_from_dict
+
+LAWS = {"no-slip": layout.NOSLIP, "noslip": layout.NOSLIP, "specular": layout.SPECULAR}
+_SCENE_KEYS = {"law", "gamma", "force", "elements", "lattice"}
+
+
+def _law_name(law):
+    if law not in LAWS:
+        raise ValueError(f"law: unknown collision law {law!r}; expected 'no-slip' or 'specular'")
+    return "no-slip" if LAWS[law] == layout.NOSLIP else "specular"
+
+
+def _gamma(value):
+    g = finite_float(value, "gamma")
+    if g < 0.0:
+        raise ValueError(f"gamma: must be >= 0, got {g}")
+    return g
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A billiard table with its physics.
+
+    Parameters
+    ----------
+    elements : sequence of Line, Segment, Circle, Arc
+        Boundary pieces; their order fixes the ``element`` index in outputs.
+    law : {'no-slip', 'specular'}
+        Collision law (DESIGN section 2).
+    gamma : float
+        Mass-distribution constant ``gamma = sqrt(I / (m R^2))`` (nondimensional,
+        >= 0): 0 point mass, ``1/sqrt(2)`` uniform disk, 1 ring.
+    force : (float, float)
+        Constant acceleration ``(a_x, a_y)`` acting between collisions.
+    lattice : dict or None
+        ``{'a1': [..], 'a2': [..]}`` to repeat the elements periodically.
+    """
+
+    elements: tuple
+    law: str = "no-slip"
+    gamma: float = 1.0 / math.sqrt(2.0)
+    force: tuple = (0.0, 0.0)
+    lattice: dict | None = field(default=None)
+
+    def __post_init__(self):
+        object.__setattr__(self, "law", _law_name(self.law))
+        object.__setattr__(self, "gamma", _gamma(self.gamma))
+        object.__setattr__(self, "force", tuple(float(f) for f in finite_vector(self.force, "force")))
+        object.__setattr__(self, "elements", tuple(self.elements))
+        if not self.elements:
+            raise ValueError("elements: a scene needs at least one element")
+        if self.lattice is not None:
+            no_unknown_keys(self.lattice, {"a1", "a2"}, "lattice")
+            a1 = finite_vector(required(self.lattice, "a1", "lattice"), "lattice.a1")
+            a2 = finite_vector(required(self.lattice, "a2", "lattice"), "lattice.a2")
+            if abs(a1[0] * a2[1] - a1[1] * a2[0]) == 0.0:
+                raise ValueError("lattice: a1 and a2 must be linearly independent")
+            object.__setattr__(self, "lattice", {"a1": [float(v) for v in a1], "a2": [float(v) for v in a2]})
+
+    # ---------------------------------------------------------------- file format
+    @classmethod
+    def from_dict(cls, d):
+        """Build a scene from its mapping form (DESIGN section 4); unknown keys are errors."""
+        no_unknown_keys(d, _SCENE_KEYS, "scene")
+        elems = required(d, "elements", "scene")
+        if not isinstance(elems, (list, tuple)):
+            raise ValueError("elements: expected a list of element mappings")
+        return cls(
+            elements=tuple(element_from_dict(e, f"elements[{i}]") for i, e in enumerate(elems)),
+            law=d.get("law", "no-slip"),
+            gamma=d.get("gamma", 1.0 / math.sqrt(2.0)),
+            force=d.get("force", (0.0, 0.0)),
+            lattice=d.get("lattice"),
+        )
+
+    @classmethod
+    def from_yaml(cls, source):
+        """Read a scene from a YAML file path or a YAML string."""
+        text = os.fspath(source)
+        is_path = isinstance(source, os.PathLike) or ("\n" not in text and os.path.isfile(text))
+        if is_path:
+            with open(text, encoding="utf-8") as fh:
+                text = fh.read()
+        data = yaml.safe_load(text)
+        if not isinstance(data, dict):
+            raise ValueError(f"scene: expected a YAML mapping (or the path of a file holding one), got {source!r}")
+        return cls.from_dict(data)
+
+    def to_dict(self):
+        d = {"law": self.law, "gamma": self.gamma, "force": list(self.force),
+             "elements": [e.to_dict() for e in self.elements]}
+        if self.lattice is not None:
+            d["lattice"] = self.lattice
+        return d
+
+    def to_yaml(self, path=None):
+        """The scene as YAML text; also written to ``path`` if given."""
+        text = yaml.safe_dump(self.to_dict(), sort_keys=False, default_flow_style=None)
+        if path is not None:
+            with open(path, "w", encoding="utf-8") as fh:
+                fh.write(text)
+        return text
+
+    def to_json(self):
+        return json.dumps(self.to_dict(), sort_keys=True)
+
+    def replace(self, **changes):
+        """A copy with some of ``elements, law, gamma, force, lattice`` changed."""
+        d = dict(elements=self.elements, law=self.law, gamma=self.gamma, force=self.force,
+                 lattice=self.lattice)
+        d.update(changes)
+        return Scene(**d)
+
+    # ---------------------------------------------------------------- kernel form
+    @property
+    def law_code(self):
+        return LAWS[self.law]
+
+    @property
+    def noslip_coefficients(self):
+        """``(c, s)`` of the no-slip law for this scene's gamma, with ``c^2 + s^2`` closest to 1."""
+        return unit_pair(*noslip_coefficients(self.gamma))
+
+    def arrays(self):
+        """``(kinds, params)`` arrays for the kernels."""
+        kinds = np.array([e.kind for e in self.elements], dtype=np.int64)
+        params = np.zeros((len(self.elements), layout.N_PARAMS))
+        for i, e in enumerate(self.elements):
+            row = e.params()
+            params[i, : len(row)] = row
+        return kinds, params
+
+    @property
+    def scale(self):
+        """Length scale of the table (largest coordinate magnitude of its elements)."""
+        return float(max(e.size() for e in self.elements))
+
+    # ---------------------------------------------------------------- inside test
+    def depth(self, points):
+        """Signed depth of points in the table: > 0 inside, < 0 outside, ~distance to the boundary.
+
+        Global constraints (lines, full circles) use their signed distance;
+        finite pieces (segments, arcs) use the side of the nearest piece.
+        """
+        pts = np.asarray(points, dtype=float)
+        depth = np.full(pts.shape[:-1], np.inf)
+        finite = [e for e in self.elements if e.finite]
+        for e in self.elements:
+            if not e.finite:
+                depth = np.minimum(depth, e.side_distance(pts))
+        if finite:
+            dist = np.stack([e.distance(pts) for e in finite])
+            side = np.stack([e.side_distance(pts) for e in finite])
+            dmin = dist.min(axis=0)
+            # among the nearest pieces (a shared vertex), trust the one the point is farthest off
+            near = dist <= dmin * (1.0 + 1e-12)
+            pick = np.argmax(np.where(near, np.abs(side), -1.0), axis=0)
+            sgn = np.sign(np.take_along_axis(side, pick[None], axis=0)[0])
+            depth = np.minimum(depth, sgn * dmin)
+        return depth
+
+    def contains(self, points):
+        """True for points strictly inside the table."""
+        return self.depth(points) > 0.0

@@ -1,0 +1,132 @@
+"""One orbit: validate the start, run the compiled event loop, return an ``xarray.Dataset``."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+
+from ._validate import finite_float, finite_vector
+from ._version import __version__
+from .core import layout
+from .core.loop import run_orbit
+from .metadata import annotate
+from .scenes import Scene
+
+_COLUMNS = {
+    "t": layout.LOG_T, "x": layout.LOG_X, "y": layout.LOG_Y, "vx": layout.LOG_VX,
+    "vy": layout.LOG_VY, "spin": layout.LOG_W, "vx_in": layout.LOG_VX_IN,
+    "vy_in": layout.LOG_VY_IN, "spin_in": layout.LOG_W_IN, "s": layout.LOG_S,
+}
+
+#: How far inside the table a start must be, relative to the scene's scale.
+START_MARGIN = 1e-12
+
+
+def check_start(scene: Scene, position, velocity, spin):
+    """Validate one initial state; returns ``(q, v, w)`` as floats.
+
+    The start must be strictly inside the table (not on its boundary) and the
+    particle must move: zero speed needs a nonzero force.
+    """
+    q = finite_vector(position, "position")
+    v = finite_vector(velocity, "velocity")
+    w = finite_float(spin, "spin")
+    margin = START_MARGIN * max(scene.scale, float(np.abs(q).max()))
+    depth = float(scene.depth(q[None])[0])
+    if not depth > margin:
+        where = "on the boundary of" if abs(depth) <= margin else "outside"
+        raise ValueError(f"position: {list(q)} is {where} the table (depth {depth:.3g}); "
+                         "a start must lie strictly inside")
+    if v[0] == 0.0 and v[1] == 0.0 and scene.force == (0.0, 0.0):
+        raise ValueError("velocity: zero speed with zero force never moves")
+    return q, v, w
+
+
+def check_limits(max_collisions, max_time):
+    """Validate stop limits: a finite collision budget and a positive time limit."""
+    if isinstance(max_collisions, bool) or not isinstance(max_collisions, (int, np.integer)):
+        raise ValueError(f"max_collisions: expected an integer, got {max_collisions!r}")
+    if max_collisions < 0:
+        raise ValueError(f"max_collisions: must be >= 0, got {max_collisions}")
+    max_time = float(max_time)
+    if math.isnan(max_time) or max_time <= 0.0:
+        raise ValueError(f"max_time: must be > 0 (or inf), got {max_time}")
+    return int(max_collisions), max_time
+
+
+def simulate(scene: Scene, position, velocity, spin=0.0, max_collisions=1000,
+             max_time=math.inf, stop_below=None):
+    """Simulate one orbit exactly, collision by collision.
+
+    Parameters
+    ----------
+    scene : Scene
+        Table, law, gamma and force.
+    position : (float, float)
+        Start ``(x, y)``, strictly inside the table.
+    velocity : (float, float)
+        Initial velocity ``(v_x, v_y)``.
+    spin : float
+        Initial scaled spin ``w = gamma R omega`` (counter-clockwise positive).
+    max_collisions : int
+        Collision budget (corner collisions count).
+    max_time : float
+        Time limit; the final state is then advanced to it.
+    stop_below : float, optional
+        End the orbit when it crosses this height downwards.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dim ``collision``: ``t, x, y, vx, vy, spin`` just after each collision,
+        ``vx_in, vy_in, spin_in`` just before, ``element``, ``s``, ``corner`` and
+        ``energy``; scalars ``*_final`` (the state where the orbit ended) and
+        ``n_collisions``; attribute ``stop_reason`` (``max_collisions``,
+        ``max_time``, ``escape``, ``stop_below``, ``corner`` or ``grazing``).
+    """
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene: expected a noslipsim.Scene, got {type(scene).__name__}")
+    if scene.lattice is not None:
+        raise ValueError("scene.lattice: periodic scenes are not supported by this version")
+    q, v, w = check_start(scene, position, velocity, spin)
+    max_collisions, max_time = check_limits(max_collisions, max_time)
+    level = -math.inf if stop_below is None else finite_float(stop_below, "stop_below")
+    if level >= q[1]:
+        raise ValueError(f"stop_below: {level} must lie below the start height {q[1]}")
+    kinds, params = scene.arrays()
+    c, s = scene.noslip_coefficients
+    ax, ay = scene.force
+    log = np.zeros((max_collisions, layout.N_LOG))
+    n, stop, n_corner, *final = run_orbit(
+        kinds, params, scene.law_code, c, s, ax, ay, q[0], q[1], v[0], v[1], w,
+        max_collisions, max_time, level, scene.scale, log)
+    return _orbit_dataset(scene, log[:n], stop, n_corner, final,
+                          dict(position=list(q), velocity=list(v), spin=w))
+
+
+def _orbit_dataset(scene, log, stop, n_corner, final, start):
+    dim = ("collision",)
+    data = {name: (dim, log[:, col].copy()) for name, col in _COLUMNS.items()}
+    data["element"] = (dim, log[:, layout.LOG_ELEMENT].astype(np.int32))
+    data["corner"] = (dim, log[:, layout.LOG_CORNER].astype(np.int8))
+    ax, ay = scene.force
+    data["energy"] = (dim, 0.5 * (log[:, layout.LOG_VX] ** 2 + log[:, layout.LOG_VY] ** 2
+                                  + log[:, layout.LOG_W] ** 2)
+                      - (ax * log[:, layout.LOG_X] + ay * log[:, layout.LOG_Y]))
+    for name, value in zip(("t_final", "x_final", "y_final", "vx_final", "vy_final", "spin_final"), final):
+        data[name] = ((), value)
+    data["n_collisions"] = ((), len(log))
+    ds = xr.Dataset(data, coords={"collision": np.arange(len(log))})
+    ds.attrs.update(
+        title="noslipsim orbit",
+        source=f"noslipsim {__version__}",
+        stop_reason=layout.STOP_REASONS[stop],
+        n_corner=int(n_corner),
+        law=scene.law,
+        gamma=scene.gamma,
+        force=list(scene.force),
+        scene=scene.to_json(),
+        start=str(start),
+    )
+    return annotate(ds)

@@ -1,0 +1,130 @@
+"""Named constructors for the paper's tables.
+
+Every function returns a :class:`~noslipsim.scenes.Scene`; ``law``, ``gamma``
+and ``force`` are passed through (defaults: no-slip, uniform disk
+``gamma = 1/sqrt(2)``, no force).  Polygons are counter-clockwise with the
+table on the left of every edge.  ``Scene.to_yaml()`` writes any of them as a
+scene file.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .elements import Arc, Circle, Line, Segment
+from .scenes import Scene
+
+UNIFORM_DISK = 1.0 / math.sqrt(2.0)
+
+
+def _scene(elements, law, gamma, force):
+    return Scene(tuple(elements), law=law, gamma=gamma, force=force)
+
+
+def half_plane(*, law="no-slip", gamma=UNIFORM_DISK, gravity=1.0):
+    """The upper half plane ``y > 0`` with force ``(0, -gravity)`` (the bouncing ball)."""
+    return _scene([Line((0.0, 0.0), (0.0, 1.0))], law, gamma, (0.0, -gravity))
+
+
+def wedge(phi, *, opening="up", law="no-slip", gamma=UNIFORM_DISK, force=(0.0, -1.0)):
+    """Wedge of half-angle ``phi`` (wall to bisector), vertex at the origin, bisector vertical.
+
+    Elements: ``0`` the left wall, ``1`` the right wall (infinite lines whose
+    half planes intersect in the wedge).  ``opening='down'`` puts the vertex on top.
+    """
+    if not 0.0 < phi < math.pi / 2:
+        raise ValueError(f"phi: wedge half-angle must lie in (0, pi/2), got {phi}")
+    if opening not in ("up", "down"):
+        raise ValueError(f"opening: must be 'up' or 'down', got {opening!r}")
+    sy = 1.0 if opening == "up" else -1.0
+    c, s = math.cos(phi), math.sin(phi)
+    return _scene([Line((0.0, 0.0), (c, sy * s)), Line((0.0, 0.0), (-c, sy * s))], law, gamma, force)
+
+
+def channel(width=1.0, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0)):
+    """Horizontal channel ``0 < y < width``: element 0 the floor, 1 the ceiling."""
+    if not width > 0:
+        raise ValueError(f"width: must be > 0, got {width}")
+    return _scene([Line((0.0, 0.0), (0.0, 1.0)), Line((0.0, width), (0.0, -1.0))], law, gamma, force)
+
+
+def polygon(vertices, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0), disks=()):
+    """Polygon table from its vertices (either orientation; stored counter-clockwise).
+
+    ``disks`` adds circular scatterers ``(cx, cy, r)`` inside it.  Element
+    ``i`` is the edge from vertex ``i`` to vertex ``i+1`` (after orientation).
+    """
+    v = np.asarray(vertices, dtype=float)
+    if v.ndim != 2 or v.shape[1] != 2 or len(v) < 3:
+        raise ValueError("vertices: expected at least 3 points (x, y)")
+    area = 0.5 * np.sum(v[:, 0] * np.roll(v[:, 1], -1) - np.roll(v[:, 0], -1) * v[:, 1])
+    if area == 0 or not np.isfinite(area):
+        raise ValueError("vertices: the polygon has zero or undefined area")
+    if area < 0:
+        v = v[::-1]
+    edges = [Segment(tuple(v[i]), tuple(v[(i + 1) % len(v)]), "left") for i in range(len(v))]
+    circles = [Circle((cx, cy), r, "outside") for cx, cy, r in disks]
+    return _scene(edges + circles, law, gamma, force)
+
+
+def regular_polygon(n, *, circumradius=1.0, law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0)):
+    """Regular ``n``-gon centred at the origin with a horizontal bottom edge."""
+    if int(n) != n or n < 3:
+        raise ValueError(f"n: a polygon needs an integer number of sides >= 3, got {n}")
+    ang = -math.pi / 2 - math.pi / n + 2 * math.pi * np.arange(n) / n
+    return polygon(np.c_[circumradius * np.cos(ang), circumradius * np.sin(ang)],
+                   law=law, gamma=gamma, force=force)
+
+
+def rectangle(width=2.0, height=1.0, *, disks=(), law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0)):
+    """Rectangle ``[0, width] x [0, height]`` (edges bottom, right, top, left) with disk scatterers ``(cx, cy, r)``."""
+    return polygon([(0, 0), (width, 0), (width, height), (0, height)], disks=disks,
+                   law=law, gamma=gamma, force=force)
+
+
+def two_disks(radius, *, distance=2.0, box=None, law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0)):
+    """Two disk scatterers of ``radius`` centred at ``(-distance/2, 0)`` and ``(distance/2, 0)``.
+
+    Without ``box`` the table is open (an orbit that misses both disks escapes);
+    ``box=(width, height)`` encloses them in a centred rectangle (elements: 4
+    edges, then the two disks).
+    """
+    if not 0 < 2 * radius < distance:
+        raise ValueError(f"radius: disks must not touch (0 < 2 radius < distance), got {radius}")
+    disks = [(-distance / 2, 0.0, radius), (distance / 2, 0.0, radius)]
+    if box is None:
+        return _scene([Circle((cx, cy), r) for cx, cy, r in disks], law, gamma, force)
+    w, h = box
+    return polygon([(-w / 2, -h / 2), (w / 2, -h / 2), (w / 2, h / 2), (-w / 2, h / 2)], disks=disks,
+                   law=law, gamma=gamma, force=force)
+
+
+def lemon(radius=1.0, distance=1.0, *, law="specular", gamma=0.0, force=(0.0, 0.0)):
+    """Lemon: the intersection of two disks of ``radius`` whose centres are ``distance`` apart.
+
+    Element 0 is the right-hand arc (of the disk centred at ``(-distance/2, 0)``),
+    element 1 the left-hand arc.
+    """
+    if not 0 < distance < 2 * radius:
+        raise ValueError(f"distance: must lie in (0, 2 radius) for a lemon, got {distance}")
+    alpha = math.acos(distance / (2 * radius))
+    a = Arc((-distance / 2, 0.0), radius, -alpha, alpha, "inside")
+    b = Arc((distance / 2, 0.0), radius, math.pi - alpha, math.pi + alpha, "inside")
+    return _scene([a, b], law, gamma, force)
+
+
+def stadium(length=1.0, radius=1.0, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0)):
+    """Bunimovich stadium: a ``length`` x ``2 radius`` rectangle capped by half disks.
+
+    Elements: bottom segment, right cap, top segment, left cap (CCW).
+    """
+    if not (length > 0 and radius > 0):
+        raise ValueError("length, radius: must be > 0")
+    a = length / 2
+    return _scene([
+        Segment((-a, -radius), (a, -radius)),
+        Arc((a, 0.0), radius, -math.pi / 2, math.pi / 2, "inside"),
+        Segment((a, radius), (-a, radius)),
+        Arc((-a, 0.0), radius, math.pi / 2, 3 * math.pi / 2, "inside"),
+    ], law, gamma, force)
