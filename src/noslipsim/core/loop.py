@@ -106,7 +106,7 @@ def run_orbit(kinds, params, law, c, s, ax, ay, x, y, vx, vy, w,
         t_level = INF
         if stop_below > -INF:
             t_level = quadratic_exit(y - stop_below, vy, 0.5 * ay, INF)
-        if t_level <= t_hit and t_level <= remaining:
+        if t_level < INF and t_level <= t_hit and t_level <= remaining:
             x, y = flight_position(x, y, vx, vy, ax, ay, t_level)
             y = stop_below
             vx += ax * t_level
