@@ -114,15 +114,15 @@ def run_orbit(kinds, params, law, c, s, ax, ay, x, y, vx, vy, w,
             t += t_level
             stop = STOP_LEVEL
             break
+        if i_hit < 0:  # no element ahead: the orbit leaves for good (state of the last collision)
+            stop = STOP_ESCAPE
+            break
         if t_hit > remaining:
-            if remaining < INF:
-                x, y = flight_position(x, y, vx, vy, ax, ay, remaining)
-                vx += ax * remaining
-                vy += ay * remaining
-                t = max_time
-                stop = STOP_MAX_TIME
-            else:
-                stop = STOP_ESCAPE
+            x, y = flight_position(x, y, vx, vy, ax, ay, remaining)
+            vx += ax * remaining
+            vy += ay * remaining
+            t = max_time
+            stop = STOP_MAX_TIME
             break
         # relocate onto the element, then resolve the collision
         hx, hy = flight_position(x, y, vx, vy, ax, ay, t_hit)
