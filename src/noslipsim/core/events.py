@@ -16,7 +16,6 @@ from .geometry import (
     crossing_coefficients,
     distance_rate,
     extent_position,
-    extent_rate,
     signed_distance,
 )
 from .jit import jit
@@ -93,7 +92,10 @@ def leaves_through_contact(kind, p, x, y, vx, vy, ax, ay, tol):
     """True if a particle at ``(x, y)`` touches this element (within ``tol``) and is moving out through it.
 
     Used for the corner rule: after a hit, any other element touched at the
-    same point that the new velocity would leave through is hit at once.
+    same point (ends inclusive) whose supporting line or circle the new
+    velocity leaves through is hit at once.  At a convex vertex leaving that
+    half plane is leaving the table, whatever the direction along the element;
+    at a reflex vertex the extra reflection keeps the particle inside too.
     """
     d = signed_distance(kind, p, x, y)
     if abs(d) > tol:
@@ -108,10 +110,6 @@ def leaves_through_contact(kind, p, x, y, vx, vy, ax, ay, tol):
         c2 = crossing_coefficients(kind, p, x, y, vx, vy, ax, ay)[2]
         if c2 >= 0.0:
             return False
-    if where == 1 and extent_rate(kind, p, x, y, vx, vy) < 0.0:
-        return False
-    if where == 2 and extent_rate(kind, p, x, y, vx, vy) > 0.0:
-        return False
     return True
 
 

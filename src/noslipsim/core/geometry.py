@@ -101,18 +101,6 @@ def extent_position(kind, p, x, y, tol):
 
 
 @jit
-def extent_rate(kind, p, x, y, vx, vy):
-    """Rate of the extent coordinate (moving towards the end is positive)."""
-    if kind == SEGMENT:
-        return vx * p[4] + vy * p[5]
-    if kind == ARC:
-        dx = x - p[0]
-        dy = y - p[1]
-        return (dx * vy - dy * vx) / (dx * dx + dy * dy)
-    return 0.0
-
-
-@jit
 def place_on_element(kind, p, x, y):
     """Project ``(x, y)`` onto the element: returns ``(x', y', nx, ny)`` with ``n`` the outward unit normal.
 
