@@ -17,6 +17,7 @@ _ULPS = 6
 @lru_cache(maxsize=4096)
 def unit_pair(x: float, y: float):
     """The float pair nearest the direction of ``(x, y)`` with ``x^2 + y^2`` closest to 1."""
+    x, y = float(x), float(y)
     r = math.hypot(x, y)
     x0, y0 = x / r, y / r
     best, best_err = (x0, y0), None

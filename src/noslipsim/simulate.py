@@ -1,6 +1,7 @@
 """One orbit: validate the start, run the compiled event loop, return an ``xarray.Dataset``."""
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -36,7 +37,7 @@ def check_start(scene: Scene, position, velocity, spin):
     depth = float(scene.depth(q[None])[0])
     if not depth > margin:
         where = "on the boundary of" if abs(depth) <= margin else "outside"
-        raise ValueError(f"position: {list(q)} is {where} the table (depth {depth:.3g}); "
+        raise ValueError(f"position: {q.tolist()} is {where} the table (depth {depth:.3g}); "
                          "a start must lie strictly inside")
     if v[0] == 0.0 and v[1] == 0.0 and scene.force == (0.0, 0.0):
         raise ValueError("velocity: zero speed with zero force never moves")
@@ -102,7 +103,7 @@ def simulate(scene: Scene, position, velocity, spin=0.0, max_collisions=1000,
         kinds, params, scene.law_code, c, s, ax, ay, q[0], q[1], v[0], v[1], w,
         max_collisions, max_time, level, scene.scale, log)
     return _orbit_dataset(scene, log[:n], stop, n_corner, final,
-                          dict(position=list(q), velocity=list(v), spin=w))
+                          dict(position=q.tolist(), velocity=v.tolist(), spin=w))
 
 
 def _orbit_dataset(scene, log, stop, n_corner, final, start):
@@ -127,6 +128,6 @@ def _orbit_dataset(scene, log, stop, n_corner, final, start):
         gamma=scene.gamma,
         force=list(scene.force),
         scene=scene.to_json(),
-        start=str(start),
+        start=json.dumps(start),
     )
     return annotate(ds)

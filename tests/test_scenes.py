@@ -1,0 +1,113 @@
+"""Scene files: round trips, named tables and every validation error (each names its field)."""
+import math
+
+import numpy as np
+import pytest
+
+from noslipsim import Arc, Circle, Line, Scene, Segment, simulate, tables
+
+ALL_TABLES = {
+    "half_plane": tables.half_plane(),
+    "wedge_up": tables.wedge(0.5),
+    "wedge_down": tables.wedge(0.5, opening="down"),
+    "channel": tables.channel(2.0),
+    "rectangle_disks": tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.2)]),
+    "pentagon": tables.regular_polygon(5),
+    "L_shape": tables.polygon([(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]),
+    "two_disks": tables.two_disks(0.5),
+    "two_disks_box": tables.two_disks(0.5, box=(4, 3)),
+    "lemon": tables.lemon(),
+    "stadium": tables.stadium(),
+}
+
+
+@pytest.mark.parametrize("name", sorted(ALL_TABLES))
+def test_yaml_round_trip_is_identical(name, tmp_path):
+    scene = ALL_TABLES[name]
+    path = tmp_path / "scene.yaml"
+    scene.to_yaml(path)
+    back = Scene.from_yaml(path)
+    assert back == scene
+    assert Scene.from_yaml(scene.to_yaml()) == scene
+    k1, p1 = scene.arrays()
+    k2, p2 = back.arrays()
+    np.testing.assert_array_equal(k1, k2)
+    np.testing.assert_array_equal(p1, p2)
+
+
+def test_element_order_is_kept():
+    d = {"elements": [{"type": "circle", "center": [0, 0], "radius": 1, "side": "inside"},
+                      {"type": "line", "point": [0, -0.5], "normal": [0, 1]}]}
+    scene = Scene.from_dict(d)
+    assert [type(e) for e in scene.elements] == [Circle, Line]
+    ds = simulate(scene, (0.0, 0.0), (0.0, -1.0), 0.0, max_collisions=2)
+    assert list(ds.element.values) == [1, 0]
+
+
+def test_polygon_orientation_is_normalised():
+    cw = tables.polygon([(0, 0), (0, 1), (1, 1), (1, 0)])
+    assert cw.contains(np.array([[0.5, 0.5]]))[0]
+    assert not cw.contains(np.array([[1.5, 0.5]]))[0]
+
+
+def test_contains_non_convex():
+    L = ALL_TABLES["L_shape"]
+    pts = np.array([[0.5, 1.5], [1.5, 0.5], [1.5, 1.5], [0.999, 0.999], [1.001, 1.001], [-0.1, 0.5]])
+    assert list(L.contains(pts)) == [True, True, False, True, False, False]
+
+
+BAD_SCENES = [
+    ({"law": "slippy", "elements": [{"type": "line", "point": [0, 0], "normal": [0, 1]}]}, "law"),
+    ({"gamma": -0.1, "elements": [{"type": "line", "point": [0, 0], "normal": [0, 1]}]}, "gamma"),
+    ({"gamma": math.inf, "elements": [{"type": "line", "point": [0, 0], "normal": [0, 1]}]}, "gamma"),
+    ({"gamma": math.nan, "elements": [{"type": "line", "point": [0, 0], "normal": [0, 1]}]}, "gamma"),
+    ({"force": [0, math.nan], "elements": [{"type": "line", "point": [0, 0], "normal": [0, 1]}]}, "force"),
+    ({"elements": [{"type": "blob"}]}, "elements[0].type"),
+    ({"elements": [{"type": "line", "point": [0, 0], "normal": [0, 0]}]}, "elements[0].normal"),
+    ({"elements": [{"type": "line", "point": [0, math.inf], "normal": [0, 1]}]}, "elements[0].point"),
+    ({"elements": [{"type": "segment", "p0": [1, 1], "p1": [1, 1]}]}, "zero-length"),
+    ({"elements": [{"type": "segment", "p0": [0, 0], "p1": [1, 1], "side": "up"}]}, "elements[0].side"),
+    ({"elements": [{"type": "circle", "center": [0, 0], "radius": 0}]}, "elements[0].radius"),
+    ({"elements": [{"type": "circle", "center": [0, 0], "radius": -1}]}, "elements[0].radius"),
+    ({"elements": [{"type": "arc", "center": [0, 0], "radius": 1, "theta0": 1, "theta1": 1}]}, "theta1"),
+    ({"elements": [{"type": "arc", "center": [0, 0], "radius": 1, "theta0": 0, "theta1": 7}]}, "span"),
+    ({"elements": [{"type": "line", "point": [0, 0], "normal": [0, 1], "colour": "red"}]}, "colour"),
+    ({"elements": [{"type": "line", "point": [0, 0], "normal": [0, 1]}], "friction": 1}, "friction"),
+    ({"elements": []}, "elements"),
+    ({"elements": [{"type": "line", "normal": [0, 1]}]}, "elements[0].point"),
+    ({"elements": [{"type": "line", "point": [0, 0], "normal": [0, 1]}], "lattice": {"a1": [1, 0], "a2": [2, 0]}},
+     "lattice"),
+]
+
+
+@pytest.mark.parametrize("data, field", BAD_SCENES)
+def test_bad_scene_names_the_field(data, field):
+    with pytest.raises(ValueError, match=field.replace("[", r"\[").replace("]", r"\]")):
+        Scene.from_dict(data)
+
+
+def test_yaml_errors(tmp_path):
+    with pytest.raises(ValueError, match="mapping"):
+        Scene.from_yaml("- just\n- a list\n")
+    with pytest.raises(ValueError, match="mapping"):
+        Scene.from_yaml(str(tmp_path / "missing.yaml"))
+
+
+def test_direct_construction_validates_too():
+    with pytest.raises(ValueError, match="radius"):
+        Circle((0, 0), 0.0)
+    with pytest.raises(ValueError, match="zero-length"):
+        Segment((0, 0), (0, 0))
+    with pytest.raises(ValueError, match="theta1"):
+        Arc((0, 0), 1.0, 2.0, 1.0)
+
+
+@pytest.mark.parametrize("bad", [
+    lambda: tables.wedge(0.0), lambda: tables.wedge(2.0), lambda: tables.wedge(0.5, opening="sideways"),
+    lambda: tables.channel(0.0), lambda: tables.regular_polygon(2), lambda: tables.two_disks(1.2),
+    lambda: tables.lemon(1.0, 2.5), lambda: tables.polygon([(0, 0), (1, 1)]),
+    lambda: tables.polygon([(0, 0), (1, 1), (2, 2)]),
+])
+def test_bad_table_arguments(bad):
+    with pytest.raises(ValueError):
+        bad()
