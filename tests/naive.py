@@ -1,0 +1,359 @@
+"""Slow, obviously correct twins of the event-time kernels (stumpy's habit).
+
+Everything here works from the *exact* values of the float inputs: every
+float is a dyadic rational, so coefficients of the crossing polynomials are
+built as :class:`fractions.Fraction` with no rounding at all.  Real roots are
+isolated with a Sturm sequence of the square-free part (exact integer
+arithmetic) and bisected to ~1e-42 relative; positions and angles at a root
+are then evaluated with mpmath at 50 digits.
+
+Nothing here shares code with ``noslipsim.core``: the twins are built from the
+definitions (DESIGN section 5):
+
+* the crossing polynomial of an element is its signed distance along the
+  flight, positive on the table side (a positive multiple of it for segments
+  and circles: only its sign matters);
+* an *exit* is a real root in ``(0, hi]`` where the polynomial changes sign
+  from + to - (tangencies and other even-multiplicity roots are not exits);
+* the hit on a segment or arc is the first exit whose point lies in the
+  element's extent, ends inclusive within an absolute length ``tol``;
+* deflation (the element just hit) drops the constant term exactly and divides
+  by ``t``: ``h(t) = (p(t) - p(0)) / t``.
+"""
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+from math import gcd
+
+import mpmath
+
+DPS = 50
+#: Roots are bisected until their bracket is below ``2**-REL_BITS`` relative.
+REL_BITS = 140
+
+__all__ = [
+    "naive_exit_roots", "naive_real_roots", "naive_crossing_poly", "naive_flight_exits",
+    "naive_element_hit_time", "poly_value", "poly_derivative", "mp",
+]
+
+
+def mp(x):
+    """A Fraction (or float/int) as an mpmath number at ``DPS`` digits."""
+    with mpmath.workdps(DPS):
+        if isinstance(x, Fraction):
+            return mpmath.mpf(x.numerator) / x.denominator
+        return mpmath.mpf(x)
+
+
+# --------------------------------------------------------------------------- exact polynomials
+# A polynomial is a list of Fractions, lowest degree first.
+
+def _trim(c):
+    c = list(c)
+    while c and c[-1] == 0:
+        c.pop()
+    return c
+
+
+def _exact(coeffs):
+    out = []
+    for v in coeffs:
+        if isinstance(v, Fraction):
+            out.append(v)
+        else:
+            v = float(v)
+            if not math.isfinite(v):
+                raise ValueError(f"non-finite coefficient {v!r}")
+            out.append(Fraction(v))
+    return _trim(out)
+
+
+def poly_value(c, x):
+    """Exact value of the polynomial ``c`` at the rational ``x``."""
+    acc = Fraction(0)
+    for ci in reversed(c):
+        acc = acc * x + ci
+    return acc
+
+
+def poly_derivative(c):
+    return _trim([i * c[i] for i in range(1, len(c))])
+
+
+def _divmod(a, b):
+    a = list(a)
+    q = [Fraction(0)] * max(len(a) - len(b) + 1, 1)
+    while len(a) >= len(b) and a:
+        k = len(a) - len(b)
+        f = a[-1] / b[-1]
+        q[k] = f
+        for i, bi in enumerate(b):
+            a[i + k] -= f * bi
+        a.pop()  # the leading term cancelled exactly
+        a = _trim(a)
+    return _trim(q), a
+
+
+def _gcd(a, b):
+    while b:
+        a, b = b, _divmod(a, b)[1]
+    return [ci / a[-1] for ci in a]
+
+
+def _squarefree(c):
+    g = _gcd(c, poly_derivative(c))
+    return _divmod(c, g)[0] if len(g) > 1 else c
+
+
+def _integer(c):
+    """Positive multiple of ``c`` with coprime integer coefficients (same signs everywhere)."""
+    den = 1
+    for ci in c:
+        den = den * ci.denominator // gcd(den, ci.denominator)
+    ints = [int(ci * den) for ci in c]
+    g = 0
+    for v in ints:
+        g = gcd(g, v)
+    return [v // g for v in ints] if g > 1 else ints
+
+
+def _sign_at(ci, x):
+    """Sign of the integer polynomial ``ci`` at the rational ``x = N/D`` (exact)."""
+    n, d = x.numerator, x.denominator
+    acc = ci[-1]
+    dp = 1
+    for v in reversed(ci[:-1]):
+        dp *= d
+        acc = acc * n + v * dp
+    return (acc > 0) - (acc < 0)
+
+
+def _sturm(q):
+    chain = [q, poly_derivative(q)]
+    while len(chain[-1]) > 1:
+        r = _divmod(chain[-2], chain[-1])[1]
+        if not r:
+            break
+        chain.append([-v for v in r])
+    return [_integer(c) for c in chain if c]
+
+
+def _variations(chain, x):
+    prev = 0
+    n = 0
+    for c in chain:
+        s = _sign_at(c, x)
+        if s:
+            if prev and s != prev:
+                n += 1
+            prev = s
+    return n
+
+
+def _pow2_above(x):
+    """A power of two >= x > 0 (a Fraction)."""
+    k = 0
+    p = Fraction(1)
+    while p < x:
+        p *= 2
+        k += 1
+    return p
+
+
+def _classify(c, a, b):
+    """Kind of the one root of ``c`` in ``(a, b]`` (``a`` is not a root): 'exit', 'entry' or 'touch'."""
+    pb = poly_value(c, b)
+    pa = poly_value(c, a)
+    if pb != 0:
+        if pa > 0 > pb:
+            return "exit"
+        if pa < 0 < pb:
+            return "entry"
+        return "touch"
+    # exact rational root at b: the first nonzero derivative decides
+    d = c
+    m = 0
+    while True:
+        d = poly_derivative(d)
+        m += 1
+        v = poly_value(d, b)
+        if v != 0:
+            break
+    if m % 2 == 0:
+        return "touch"
+    return "exit" if v < 0 else "entry"
+
+
+def naive_real_roots(coeffs, hi=math.inf):
+    """Every distinct real root of the polynomial in ``(0, hi]`` with its kind.
+
+    Returns a sorted list of ``(root, kind, bracket)``: ``root`` an mpmath
+    number (50 digits), ``kind`` in {'exit', 'entry', 'touch'} and ``bracket``
+    the exact rational ``(a, b]`` holding it (relative width < 2^-140).
+    """
+    c = _exact(coeffs)
+    if len(c) <= 1:
+        return []
+    if hi <= 0:
+        return []
+    cauchy = 1 + max(abs(ci) for ci in c[:-1]) / abs(c[-1])
+    top = _pow2_above(cauchy)
+    if hi != math.inf:
+        top = min(top, Fraction(float(hi)))
+    q = _squarefree(c)
+    chain = _sturm(q)
+    lo = Fraction(0)
+    out = []
+    stack = [(lo, top, _variations(chain, lo), _variations(chain, top))]
+    while stack:
+        a, b, va, vb = stack.pop()
+        n = va - vb
+        if n == 0:
+            continue
+        if n > 1:
+            m = (a + b) / 2
+            vm = _variations(chain, m)
+            stack.append((a, m, va, vm))
+            stack.append((m, b, vm, vb))
+            continue
+        # exactly one root in (a, b]: bisect until a > 0 and (b - a) < 2^-REL_BITS a
+        while a == 0 or (b - a) * (1 << REL_BITS) > a:
+            m = (a + b) / 2
+            vm = _variations(chain, m)
+            if va - vm == 1:
+                b, vb = m, vm
+            else:
+                a, va = m, vm
+        kind = _classify(c, a, b)
+        root = b if poly_value(q, b) == 0 else (a + b) / 2
+        out.append((mp(root), kind, (a, b)))
+    out.sort(key=lambda r: r[0])
+    return out
+
+
+def naive_exit_roots(coeffs, hi=math.inf):
+    """Sorted exit roots (``+`` to ``-`` sign changes) in ``(0, hi]`` of ``c0 + c1 t + ...``, 50 digits."""
+    return [r for r, kind, _ in naive_real_roots(coeffs, hi) if kind == "exit"]
+
+
+# --------------------------------------------------------------------------- flights and elements
+
+def _flight(q, v, a):
+    """Exact coordinate polynomials ``x(t), y(t)`` of ``q + v t + a t^2 / 2``."""
+    (qx, qy), (vx, vy), (ax, ay) = ([Fraction(float(u)) for u in w] for w in (q, v, a))
+    return [qx, vx, ax / 2], [qy, vy, ay / 2]
+
+
+def _padd(a, b):
+    n = max(len(a), len(b))
+    return [(a[i] if i < len(a) else 0) + (b[i] if i < len(b) else 0) for i in range(n)]
+
+
+def _pscale(a, s):
+    return [s * v for v in a]
+
+
+def _pmul(a, b):
+    out = [Fraction(0)] * (len(a) + len(b) - 1)
+    for i, x in enumerate(a):
+        for j, y in enumerate(b):
+            out[i + j] += x * y
+    return out
+
+
+def _type(element):
+    return type(element).__name__
+
+
+def naive_crossing_poly(element, q, v, a):
+    """Exact coefficients (Fractions, low degree first, length 5) of a positive multiple of the
+    element's signed distance along the flight, and the factor ``k`` (a float) it is multiplied
+    by: the signed distance to the supporting line or circle is ``p(t) / k`` to first order.
+
+    Line: ``(q(t) - point) . normal``; segment: ``s * cross(p1 - p0, q(t) - p0)`` with ``s = +1``
+    for a table on the left (``k = |p1 - p0|``); circle and arc: ``sigma (|q(t) - c|^2 - r^2)``
+    with ``sigma = +1`` outside (``k = 2 r``).
+    """
+    X, Y = _flight(q, v, a)
+    name = _type(element)
+    if name == "Line":
+        px, py = (Fraction(u) for u in element.point)
+        nx, ny = (Fraction(u) for u in element.normal)
+        p = _padd(_pscale(_padd(X, [-px]), nx), _pscale(_padd(Y, [-py]), ny))
+        k = math.hypot(*element.normal)
+    elif name == "Segment":
+        x0, y0 = (Fraction(u) for u in element.p0)
+        x1, y1 = (Fraction(u) for u in element.p1)
+        dx, dy = x1 - x0, y1 - y0
+        s = 1 if element.side == "left" else -1
+        p = _pscale(_padd(_pscale(_padd(Y, [-y0]), dx), _pscale(_padd(X, [-x0]), -dy)), s)
+        k = math.hypot(float(dx), float(dy))
+    elif name in ("Circle", "Arc"):
+        cx, cy = (Fraction(u) for u in element.center)
+        r = Fraction(element.radius)
+        sig = 1 if element.side == "outside" else -1
+        DX, DY = _padd(X, [-cx]), _padd(Y, [-cy])
+        p = _pscale(_padd(_padd(_pmul(DX, DX), _pmul(DY, DY)), [-r * r]), sig)
+        k = 2.0 * element.radius
+    else:  # pragma: no cover
+        raise TypeError(f"unknown element {element!r}")
+    p = list(p) + [Fraction(0)] * (5 - len(p))
+    return p, k
+
+
+def _extent_excess(element, x, y):
+    """How far (a length, mpmath) the point lies outside the element's extent; <= 0 inside."""
+    name = _type(element)
+    with mpmath.workdps(DPS):
+        if name == "Segment":
+            x0, y0 = (mp(u) for u in element.p0)
+            x1, y1 = (mp(u) for u in element.p1)
+            L = mpmath.hypot(x1 - x0, y1 - y0)
+            u = ((x - x0) * (x1 - x0) + (y - y0) * (y1 - y0)) / L
+            if u < 0:
+                return -u
+            if u > L:
+                return u - L
+            return -min(u, L - u)
+        if name == "Arc":
+            cx, cy = (mp(u) for u in element.center)
+            r = mp(element.radius)
+            two_pi = 2 * mpmath.pi
+            rel = mpmath.atan2(y - cy, x - cx) - mp(element.theta0)
+            rel -= two_pi * mpmath.floor(rel / two_pi)
+            span = mp(element.theta1) - mp(element.theta0)
+            if rel <= span:
+                return -r * min(rel, span - rel)
+            return r * min(rel - span, two_pi - rel)
+    return mpmath.mpf(-1)  # lines and circles have no ends
+
+
+def naive_flight_exits(element, q, v, a, deflate=False, hi=math.inf):
+    """All exits of the flight through the element's supporting curve in ``(0, hi]``.
+
+    Returns a list of dicts ``{t, excess, kind}`` sorted by ``t`` (``kind`` 'exit'), where
+    ``excess`` is the distance of the exit point outside the extent (<= 0 inside), and also
+    the non-exit roots (``kind`` 'entry'/'touch') for conditioning checks.
+    """
+    p, _ = naive_crossing_poly(element, q, v, a)
+    if deflate:
+        p = p[1:] + [Fraction(0)]
+    X, Y = _flight(q, v, a)
+    out = []
+    for t, kind, br in naive_real_roots(p, hi):
+        with mpmath.workdps(DPS):
+            x = sum(mp(ci) * t ** i for i, ci in enumerate(X))
+            y = sum(mp(ci) * t ** i for i, ci in enumerate(Y))
+            out.append({"t": t, "kind": kind, "excess": _extent_excess(element, x, y), "bracket": br})
+    return out
+
+
+def naive_element_hit_time(element, q, v, a, deflate=False, hi=math.inf, tol=0.0):
+    """First exit time in ``(0, hi]`` through ``element`` whose point is in its extent (ends
+    inclusive within the absolute length ``tol``), as a 50-digit mpmath number, or ``mpmath.inf``.
+    """
+    for e in naive_flight_exits(element, q, v, a, deflate, hi):
+        if e["kind"] == "exit" and e["excess"] <= tol:
+            return e["t"]
+    return mpmath.inf
