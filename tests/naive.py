@@ -357,3 +357,66 @@ def naive_element_hit_time(element, q, v, a, deflate=False, hi=math.inf, tol=0.0
         if e["kind"] == "exit" and e["excess"] <= tol:
             return e["t"]
     return mpmath.inf
+
+
+def naive_roots_between(coeffs, lo, hi):
+    """Every distinct real root in the closed interval ``[lo, hi]`` (finite), sorted, 50 digits.
+
+    Substitutes ``t = lo + s`` exactly (Taylor shift) and searches ``s`` in ``(0, hi - lo]``.
+    """
+    c = _exact(coeffs)
+    lo, hi = Fraction(float(lo)), Fraction(float(hi))
+    if not c or hi < lo:
+        return []
+    # shifted polynomial: coefficients of p(lo + s) in s
+    shifted = [Fraction(0)] * len(c)
+    binom_row = [Fraction(1)]
+    for n, cn in enumerate(c):  # add cn (lo + s)^n
+        for k in range(n + 1):
+            shifted[k] += cn * math.comb(n, k) * lo ** (n - k)
+    out = [mp(lo)] if poly_value(c, lo) == 0 else []
+    if hi > lo:
+        with mpmath.workdps(DPS):
+            out += [mp(lo) + r for r, _, _ in naive_real_roots(shifted, hi - lo)]
+    del binom_row
+    return out
+
+
+# --------------------------------------------------------------------------- conditioning
+
+EPS = 2.0 ** -52
+
+
+def predicted_root_error(coeffs, root, mags, k_eval):
+    """The error a backward-stable float method can make on ``root`` (mpmath, absolute).
+
+    The float method sees a polynomial perturbed by ``delta(t) = k_eval eps sum mags_i |t|^i``
+    (``mags_i >= |c_i|``: the size of the terms each coefficient was computed from).  Near a root
+    where the first ``k - 1`` derivatives are small the root moves by about
+    ``(k! delta / |p^(k)(r)|)^(1/k)``: the minimum over ``k`` is the prediction (``k = 1`` for a
+    simple root, ``k = 2`` gives the ``sqrt(eps)`` scale of a near-double root).
+    """
+    c = _exact(coeffs)
+    with mpmath.workdps(DPS):
+        r = abs(mpmath.mpf(root))
+        delta = k_eval * EPS * sum(mpmath.mpf(float(m)) * r ** i for i, m in enumerate(mags))
+        best = mpmath.inf
+        d = c
+        fact = 1
+        for k in range(1, len(c)):
+            d = poly_derivative(d)
+            fact *= k
+            v = abs(sum(mp(di) * mpmath.mpf(root) ** i for i, di in enumerate(d)))
+            if v > 0:
+                best = min(best, (fact * delta / v) ** (mpmath.mpf(1) / k))
+        return best
+
+
+def backward_residual(coeffs, t, mags):
+    """``|p(t)| / (eps sum mags_i |t|^i)``: how many units of rounding ``t`` is from being a root."""
+    c = _exact(coeffs)
+    tf = Fraction(float(t))
+    with mpmath.workdps(DPS):
+        val = abs(mp(poly_value(c, tf)))
+        scale = EPS * sum(mpmath.mpf(float(m)) * abs(mp(tf)) ** i for i, m in enumerate(mags))
+        return val / scale if scale > 0 else (mpmath.inf if val else mpmath.mpf(0))

@@ -71,7 +71,7 @@ import mpmath
 import numpy as np
 import xarray as xr
 
-from ._validate import finite_float
+from ._validate import finite_float, finite_vector
 from ._version import __version__
 from .core.layout import STOP_REASONS
 from .core.tolerances import MAX_CORNER_BOUNCES
@@ -364,6 +364,23 @@ class ReferenceOrbit:
 
 
 # ---------------------------------------------------------------------------- the event loop
+def _validated_limits(scene, q, max_collisions, max_time, stop_below, dps):
+    if isinstance(dps, bool) or not isinstance(dps, (int, np.integer)) or dps < MIN_DPS:
+        raise ValueError(f"dps: expected an integer >= {MIN_DPS}, got {dps!r}")
+    max_collisions, max_time = check_limits(max_collisions, max_time)
+    level = None if stop_below is None else finite_float(stop_below, "stop_below")
+    if level is not None and level >= q[1]:
+        raise ValueError(f"stop_below: {level} must lie below the start height {q[1]}")
+    return max_collisions, max_time, level, int(dps)
+
+
+def _check_scene(scene):
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene: expected a noslipsim.Scene, got {type(scene).__name__}")
+    if scene.lattice is not None:
+        raise ValueError("scene.lattice: periodic scenes are not supported by this version")
+
+
 def simulate_reference(scene: Scene, position, velocity, spin=0.0, max_collisions=1000,
                        max_time=math.inf, stop_below=None, dps=50, as_mpf=False):
     """Simulate one orbit in mpmath at ``dps`` digits (the reference for :func:`noslipsim.simulate`).
@@ -388,7 +405,7 @@ def simulate_reference(scene: Scene, position, velocity, spin=0.0, max_collision
         Working precision in decimal digits (>= 20).  Length tolerances are
         ``10^(-floor(dps/2))`` times the scene's scale.
     as_mpf : bool
-        Return the :class:`ReferenceOrbit` with the raw mpf values instead of a dataset.
+        Return the :class:`ReferenceOrbit` holding the raw mpf values instead of a dataset.
 
     Returns
     -------
@@ -399,32 +416,77 @@ def simulate_reference(scene: Scene, position, velocity, spin=0.0, max_collision
     Raises
     ------
     ValueError
-        On a bad scene, start, limit, level or precision.
+        On a bad scene, start, limit, level or precision (as :func:`noslipsim.simulate`).
 
     Notes
     -----
-    The algorithm is described in the module docstring.  It costs about a
-    millisecond per line and a few per circle per collision at 50 digits:
-    use it for tens to hundreds of collisions.
+    The algorithm is described in the module docstring.  At 50 digits a
+    collision costs about a tenth of a millisecond per line or segment and a
+    few milliseconds per circle or arc under a force: use it for tens to
+    hundreds of collisions.
     """
-    if not isinstance(scene, Scene):
-        raise ValueError(f"scene: expected a noslipsim.Scene, got {type(scene).__name__}")
-    if scene.lattice is not None:
-        raise ValueError("scene.lattice: periodic scenes are not supported by this version")
-    if isinstance(dps, bool) or not isinstance(dps, (int, np.integer)) or dps < MIN_DPS:
-        raise ValueError(f"dps: expected an integer >= {MIN_DPS}, got {dps!r}")
+    _check_scene(scene)
     q, v, w = check_start(scene, position, velocity, spin)
-    max_collisions, max_time = check_limits(max_collisions, max_time)
-    level = None if stop_below is None else finite_float(stop_below, "stop_below")
-    if level is not None and level >= q[1]:
-        raise ValueError(f"stop_below: {level} must lie below the start height {q[1]}")
+    limits = _validated_limits(scene, q, max_collisions, max_time, stop_below, dps)
+    orbit = _run(scene, q, v, w, None, *limits)
+    return orbit if as_mpf else orbit.to_dataset()
 
+
+def resume_reference(scene: Scene, position, velocity, spin, element, max_collisions=1000,
+                     max_time=math.inf, stop_below=None, dps=50, as_mpf=False):
+    """Continue an orbit in mpmath from the state just after a collision on ``element``.
+
+    For one-step (shadowing) checks: start the reference from any
+    post-collision state of a float64 orbit and compare its next collision
+    with the float64 one, so chaos never amplifies the difference.  The
+    position is first projected onto ``element`` (it is on it up to the
+    rounding of the input), then the corner rule and the next-hit search run
+    exactly as after a hit inside :func:`simulate_reference`.  Times restart
+    at 0.
+
+    Parameters
+    ----------
+    scene : Scene
+        Table, law, gamma and force.
+    position, velocity : (float, float)
+        Post-collision position (on ``element``) and velocity.
+    spin : float
+        Post-collision scaled spin.
+    element : int
+        Index of the element just hit.
+    max_collisions, max_time, stop_below, dps, as_mpf
+        As in :func:`simulate_reference`.
+
+    Returns
+    -------
+    xarray.Dataset or ReferenceOrbit
+        As :func:`simulate_reference`; collision 0 is the first event after the given one.
+
+    Raises
+    ------
+    ValueError
+        On a bad scene, state, element index, limit, level or precision.
+    """
+    _check_scene(scene)
+    q = finite_vector(position, "position")
+    v = finite_vector(velocity, "velocity")
+    w = finite_float(spin, "spin")
+    if isinstance(element, bool) or not isinstance(element, (int, np.integer)) \
+            or not 0 <= element < len(scene.elements):
+        raise ValueError(f"element: expected an index in [0, {len(scene.elements)}), got {element!r}")
+    limits = _validated_limits(scene, q, max_collisions, max_time, stop_below, dps)
+    orbit = _run(scene, q, v, w, int(element), *limits)
+    return orbit if as_mpf else orbit.to_dataset()
+
+
+def _run(scene, q, v, w, resume_element, max_collisions, max_time, level, dps):
+    """The event loop at ``dps`` digits; ``resume_element`` is the element just hit, if any."""
     ctx = mpmath.MPContext()
-    ctx.dps = int(dps)
+    ctx.dps = dps
     f = ctx.mpf
     elements = _mp_elements(ctx, scene)
-    rel_tol = f(10) ** (-(int(dps) // 2))
-    slope_floor = f(10) ** (-((2 * int(dps)) // 5))
+    rel_tol = f(10) ** (-(dps // 2))
+    slope_floor = f(10) ** (-((2 * dps) // 5))
     scale = f(scene.scale)
     ax, ay = f(scene.force[0]), f(scene.force[1])
     noslip = scene.law == "no-slip"
@@ -433,14 +495,15 @@ def simulate_reference(scene: Scene, position, velocity, spin=0.0, max_collision
     t_max = ctx.inf if math.isinf(max_time) else f(max_time)
     level_mp = None if level is None else f(level)
 
+    orbit = ReferenceOrbit(scene=scene, dps=dps,
+                           start=dict(position=[float(c) for c in q], velocity=[float(c) for c in v],
+                                      spin=float(w)))
+    rec = orbit.records
     x, y, vx, vy, w = f(q[0]), f(q[1]), f(v[0]), f(v[1]), f(w)
     t = ctx.zero
-    orbit = ReferenceOrbit(scene=scene, dps=int(dps),
-                           start=dict(position=list(q), velocity=list(v), spin=float(w)))
-    rec = orbit.records
 
     def collide(vx_, vy_, w_, nx, ny):
-        tx, ty = -ny, nx  # t = J n
+        tx, ty = -ny, nx  # t = J n, n outward
         vt = vx_ * tx + vy_ * ty
         vn = vx_ * nx + vy_ * ny
         if noslip:
@@ -448,12 +511,12 @@ def simulate_reference(scene: Scene, position, velocity, spin=0.0, max_collision
         vn = -vn
         return vt * tx + vn * nx, vt * ty + vn * ny, w_
 
-    def record(el, x_, y_, vx_, vy_, w_, vxi, vyi, wi, corner):
+    def record(el, vx_in, vy_in, w_in, corner):
         for k, val in zip(("t", "x", "y", "vx", "vy", "spin", "vx_in", "vy_in", "spin_in"),
-                          (t, x_, y_, vx_, vy_, w_, vxi, vyi, wi)):
+                          (t, x, y, vx, vy, w, vx_in, vy_in, w_in)):
             rec[k].append(val)
-        rec["s"].append(el.arclength(x_, y_))
-        rec["energy"].append((vx_ * vx_ + vy_ * vy_ + w_ * w_) / 2 - (ax * x_ + ay * y_))
+        rec["s"].append(el.arclength(x, y))
+        rec["energy"].append((vx * vx + vy * vy + w * w) / 2 - (ax * x + ay * y))
         orbit.element.append(el.index)
         orbit.corner.append(corner)
 
@@ -466,6 +529,7 @@ def simulate_reference(scene: Scene, position, velocity, spin=0.0, max_collision
         return None
 
     def leaves_through(el, tol):
+        """The particle touches ``el`` and its velocity takes it out of the table through ``el``."""
         if abs(el.distance(x, y)) > tol:
             return False
         where = el.extent(x, y, tol)
@@ -483,16 +547,45 @@ def simulate_reference(scene: Scene, position, velocity, spin=0.0, max_collision
         return True
 
     def slides_off(el):
-        coeffs = el.crossing(x, y, vx, vy, ax, ay)[1:]
-        for c in coeffs:
+        """On ``el``, the flight leaves through it at once (first nonzero derivative negative)."""
+        for c in el.crossing(x, y, vx, vy, ax, ay)[1:]:
             if c != 0:
                 return c < 0
         return False
 
     current = None
+    if resume_element is not None:
+        current = elements[resume_element]
+        x, y = current.place(x, y)
     n = 0
     stop = "max_collisions"
-    while n < max_collisions:
+    while True:
+        if current is not None:  # just after a hit on `current`: corner rule, then the grazing check
+            bounces = 0
+            while n < max_collisions:
+                tol = rel_tol * max(scale, abs(x), abs(y))
+                other = next((el for el in elements
+                              if el is not current and leaves_through(el, tol)), None)
+                if other is None:
+                    break
+                bounces += 1
+                if bounces > MAX_CORNER_BOUNCES:
+                    stop = "corner"
+                    break
+                vx_in, vy_in, w_in = vx, vy, w
+                vx, vy, w = collide(vx, vy, w, *other.outward_normal(x, y))
+                record(other, vx_in, vy_in, w_in, 1)
+                n += 1
+                orbit.n_corner += 1
+                current = other
+            if stop == "corner":
+                break
+            if slides_off(current):
+                stop = "grazing"
+                break
+        if n >= max_collisions:
+            break
+        # next hit: the earliest exit root over all elements, near-ties to the lower index
         tol = rel_tol * max(scale, abs(x), abs(y))
         best_t, best = None, None
         for el in elements:
@@ -501,8 +594,8 @@ def simulate_reference(scene: Scene, position, velocity, spin=0.0, max_collision
                 best_t, best = th, el
         t_level = None
         if level_mp is not None:
-            lv = _exit_roots(ctx, [y - level_mp, vy, ay / 2], False, slope_floor)
-            t_level = lv[0] if lv else None
+            roots = _exit_roots(ctx, [y - level_mp, vy, ay / 2], False, slope_floor)
+            t_level = roots[0] if roots else None
         remaining = t_max - t
         if t_level is not None and (best_t is None or t_level <= best_t) and t_level <= remaining:
             x, y = _flight(x, y, vx, vy, ax, ay, t_level)
@@ -511,7 +604,7 @@ def simulate_reference(scene: Scene, position, velocity, spin=0.0, max_collision
             t += t_level
             stop = "stop_below"
             break
-        if best is None:  # nothing ahead: the orbit leaves for good
+        if best is None:  # nothing ahead: the orbit leaves for good from its last collision
             stop = "escape"
             break
         if best_t > remaining:
@@ -520,40 +613,16 @@ def simulate_reference(scene: Scene, position, velocity, spin=0.0, max_collision
             t = t_max
             stop = "max_time"
             break
+        # relocate onto the element, then resolve the collision
         hx, hy = _flight(x, y, vx, vy, ax, ay, best_t)
-        vx_in, vy_in = vx + ax * best_t, vy + ay * best_t
+        vx_in, vy_in, w_in = vx + ax * best_t, vy + ay * best_t, w
         x, y = best.place(hx, hy)
-        vx, vy, w_out = collide(vx_in, vy_in, w, *best.outward_normal(x, y))
+        vx, vy, w = collide(vx_in, vy_in, w, *best.outward_normal(x, y))
         t += best_t
-        record(best, x, y, vx, vy, w_out, vx_in, vy_in, w, 0)
-        w = w_out
+        record(best, vx_in, vy_in, w_in, 0)
         n += 1
         current = best
-        bounces = 0
-        while n < max_collisions:
-            tol = rel_tol * max(scale, abs(x), abs(y))
-            other = next((el for el in elements if el is not current and leaves_through(el, tol)), None)
-            if other is None:
-                break
-            bounces += 1
-            if bounces > MAX_CORNER_BOUNCES:
-                stop = "corner"
-                break
-            vx_in, vy_in = vx, vy
-            vx, vy, w_out = collide(vx_in, vy_in, w, *other.outward_normal(x, y))
-            record(other, x, y, vx, vy, w_out, vx_in, vy_in, w, 1)
-            w = w_out
-            n += 1
-            orbit.n_corner += 1
-            current = other
-        if stop == "corner":
-            break
-        if slides_off(current):
-            stop = "grazing"
-            break
 
     orbit.stop_reason = stop
     orbit.final = dict(t=t, x=x, y=y, vx=vx, vy=vy, spin=w)
-    if as_mpf:
-        return orbit
-    return orbit.to_dataset()
+    return orbit
