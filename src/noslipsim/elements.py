@@ -95,6 +95,12 @@ class Line:
     def length(self):
         return math.inf
 
+    def bbox(self):
+        return (-math.inf, -math.inf, math.inf, math.inf)
+
+    def shifted(self, dx, dy):
+        return Line((self.point[0] + dx, self.point[1] + dy), self.normal)
+
 
 @dataclass(frozen=True)
 class Segment:
@@ -140,6 +146,13 @@ class Segment:
 
     def length(self):
         return self._frame()[4]
+
+    def bbox(self):
+        return (min(self.p0[0], self.p1[0]), min(self.p0[1], self.p1[1]),
+                max(self.p0[0], self.p1[0]), max(self.p0[1], self.p1[1]))
+
+    def shifted(self, dx, dy):
+        return Segment((self.p0[0] + dx, self.p0[1] + dy), (self.p1[0] + dx, self.p1[1] + dy), self.side)
 
     def side_distance(self, pts):
         _, _, nx, ny, _ = self._frame()
@@ -191,6 +204,13 @@ class Circle:
 
     def length(self):
         return TWO_PI * self.radius
+
+    def bbox(self):
+        c, r = self.center, self.radius
+        return (c[0] - r, c[1] - r, c[0] + r, c[1] + r)
+
+    def shifted(self, dx, dy):
+        return Circle((self.center[0] + dx, self.center[1] + dy), self.radius, self.side)
 
     def side_distance(self, pts):
         rho = np.hypot(pts[..., 0] - self.center[0], pts[..., 1] - self.center[1])
@@ -246,6 +266,13 @@ class Arc:
 
     def length(self):
         return self.radius * (self.theta1 - self.theta0)
+
+    def bbox(self):  # the full circle's box: conservative
+        c, r = self.center, self.radius
+        return (c[0] - r, c[1] - r, c[0] + r, c[1] + r)
+
+    def shifted(self, dx, dy):
+        return Arc((self.center[0] + dx, self.center[1] + dy), self.radius, self.theta0, self.theta1, self.side)
 
     def endpoints(self):
         c, r = self.center, self.radius

@@ -25,6 +25,10 @@ VARIABLES = {
     "vy_final": ("y velocity at the end of the orbit", "1"),
     "spin_final": ("scaled spin at the end of the orbit", "1"),
     "n_collisions": ("number of collisions", "1"),
+    "cell_a1": ("lattice cell index along a1 at the collision", "1"),
+    "cell_a2": ("lattice cell index along a2 at the collision", "1"),
+    "cell_a1_final": ("lattice cell index along a1 at the end of the orbit", "1"),
+    "cell_a2_final": ("lattice cell index along a2 at the end of the orbit", "1"),
 }
 
 

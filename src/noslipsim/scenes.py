@@ -27,6 +27,7 @@ from ._validate import finite_float, finite_vector, no_unknown_keys, required
 from .core import layout
 from .core.laws import noslip_coefficients
 from .elements import element_from_dict
+from .lattice import cell_of, lattice_matrix, reaching_copies
 
 LAWS = {"no-slip": layout.NOSLIP, "noslip": layout.NOSLIP, "specular": layout.SPECULAR}
 _SCENE_KEYS = {"law", "gamma", "force", "elements", "lattice"}
@@ -84,6 +85,7 @@ class Scene:
             if abs(a1[0] * a2[1] - a1[1] * a2[0]) == 0.0:
                 raise ValueError("lattice: a1 and a2 must be linearly independent")
             object.__setattr__(self, "lattice", {"a1": [float(v) for v in a1], "a2": [float(v) for v in a2]})
+            reaching_copies(self.elements, self.lattice)  # rejects infinite elements
 
     # ---------------------------------------------------------------- file format
     @classmethod
@@ -158,6 +160,29 @@ class Scene:
             params[i, : len(row)] = row
         return kinds, params
 
+    def kernel_inputs(self):
+        """Everything the event loop needs about the table: ``(kinds, params, copies, A, B, lattice)``."""
+        kinds, params = self.arrays()
+        if self.lattice is None:
+            copies = np.zeros((len(kinds), 3), dtype=np.int64)
+            copies[:, 0] = np.arange(len(kinds))
+            zero = np.zeros((2, 2))
+            return kinds, params, copies, zero, zero, False
+        A, B = lattice_matrix(self.lattice)
+        return kinds, params, reaching_copies(self.elements, self.lattice), A, B, True
+
+    def cell_scene(self, cell=(0, 0)):
+        """The plain scene of every element copy that reaches ``cell`` (for inside tests)."""
+        if self.lattice is None:
+            return self
+        copies = reaching_copies(self.elements, self.lattice)
+        A, _ = lattice_matrix(self.lattice)
+        elems = []
+        for e, o1, o2 in copies:
+            dx, dy = A @ np.array([o1 + cell[0], o2 + cell[1]], float)
+            elems.append(self.elements[e].shifted(dx, dy))
+        return self.replace(elements=tuple(elems), lattice=None)
+
     @property
     def scale(self):
         """Length scale of the table (largest coordinate magnitude of its elements)."""
@@ -169,8 +194,17 @@ class Scene:
 
         Global constraints (lines, full circles) use their signed distance;
         finite pieces (segments, arcs) use the side of the nearest piece.
+        Periodic scenes measure each point against the copies that reach its cell.
         """
         pts = np.asarray(points, dtype=float)
+        if self.lattice is not None:
+            flat = pts.reshape(-1, 2)
+            cells = cell_of(flat, self.lattice)
+            out = np.empty(len(flat))
+            for cell in np.unique(cells, axis=0):
+                sel = np.all(cells == cell, axis=1)
+                out[sel] = self.cell_scene(tuple(cell)).depth(flat[sel])
+            return out.reshape(pts.shape[:-1])
         depth = np.full(pts.shape[:-1], np.inf)
         finite = [e for e in self.elements if e.finite]
         for e in self.elements:

@@ -12,6 +12,7 @@ from ._version import __version__
 from .core import layout
 from .core.loop import run_orbit
 from .metadata import annotate
+from .lattice import cell_of, cell_origin
 from .scenes import Scene
 
 _COLUMNS = {
@@ -33,7 +34,7 @@ def check_start(scene: Scene, position, velocity, spin):
     q = finite_vector(position, "position")
     v = finite_vector(velocity, "velocity")
     w = finite_float(spin, "spin")
-    margin = START_MARGIN * max(scene.scale, float(np.abs(q).max()))
+    margin = START_MARGIN * max(scene.scale, float(np.abs(start_cell(scene, q)[2]).max()))
     depth = float(scene.depth(q[None])[0])
     if not depth > margin:
         where = "on the boundary of" if abs(depth) <= margin else "outside"
@@ -88,25 +89,48 @@ def simulate(scene: Scene, position, velocity, spin=0.0, max_collisions=1000,
     """
     if not isinstance(scene, Scene):
         raise ValueError(f"scene: expected a noslipsim.Scene, got {type(scene).__name__}")
-    if scene.lattice is not None:
-        raise ValueError("scene.lattice: periodic scenes are not supported by this version")
     q, v, w = check_start(scene, position, velocity, spin)
     max_collisions, max_time = check_limits(max_collisions, max_time)
     level = -math.inf if stop_below is None else finite_float(stop_below, "stop_below")
     if level >= q[1]:
         raise ValueError(f"stop_below: {level} must lie below the start height {q[1]}")
-    kinds, params = scene.arrays()
-    c, s = scene.noslip_coefficients
-    ax, ay = scene.force
-    log = np.zeros((max_collisions, layout.N_LOG))
-    n, stop, n_corner, *final = run_orbit(
-        kinds, params, scene.law_code, c, s, ax, ay, q[0], q[1], v[0], v[1], w,
-        max_collisions, max_time, level, scene.scale, log)
-    return _orbit_dataset(scene, log[:n], stop, n_corner, final,
+    rec = np.zeros((max_collisions, layout.N_LOG))
+    out = run_one(scene, q, v, w, max_collisions, max_time, level, layout.RECORD_LOG, rec)
+    n, stop, n_corner, n_rec, final, cell = out
+    return _orbit_dataset(scene, rec[:n_rec], stop, n_corner, final, cell,
                           dict(position=q.tolist(), velocity=v.tolist(), spin=w))
 
 
-def _orbit_dataset(scene, log, stop, n_corner, final, start):
+def start_cell(scene: Scene, q):
+    """Split a start into its lattice cell and the position relative to that cell's centre."""
+    if scene.lattice is None:
+        return np.zeros(2, dtype=np.int64), np.zeros(2), q
+    cell = cell_of(q, scene.lattice)
+    origin = cell_origin(cell, scene.lattice)
+    return cell, origin, q - origin
+
+
+def run_one(scene: Scene, q, v, w, max_collisions, max_time, level, mode, rec, mask=None, inputs=None):
+    """Run the kernel for one validated start; positions and cells come back absolute."""
+    kinds, params, copies, A, B, lattice = scene.kernel_inputs() if inputs is None else inputs
+    if mask is None:
+        mask = np.zeros(len(kinds), dtype=np.bool_)
+    c, s = scene.noslip_coefficients
+    ax, ay = scene.force
+    cell, origin, r = start_cell(scene, q)
+    n, stop, n_corner, n_rec, t, x, y, vx, vy, w_f, m1, m2 = run_orbit(
+        kinds, params, copies, A, B, lattice, scene.law_code, c, s, ax, ay, r[0], r[1], v[0], v[1], w,
+        max_collisions, max_time, level - origin[1], scene.scale, mode, rec, mask)
+    if mode == layout.RECORD_LOG and lattice:
+        rec[:n_rec, layout.LOG_X] += origin[0]
+        rec[:n_rec, layout.LOG_Y] += origin[1]
+        rec[:n_rec, layout.LOG_CELL_A1] += cell[0]
+        rec[:n_rec, layout.LOG_CELL_A2] += cell[1]
+    final = (t, x + origin[0], y + origin[1], vx, vy, w_f)
+    return n, stop, n_corner, n_rec, final, (m1 + int(cell[0]), m2 + int(cell[1]))
+
+
+def _orbit_dataset(scene, log, stop, n_corner, final, cell, start):
     dim = ("collision",)
     data = {name: (dim, log[:, col].copy()) for name, col in _COLUMNS.items()}
     data["element"] = (dim, log[:, layout.LOG_ELEMENT].astype(np.int32))
@@ -118,6 +142,11 @@ def _orbit_dataset(scene, log, stop, n_corner, final, start):
     for name, value in zip(("t_final", "x_final", "y_final", "vx_final", "vy_final", "spin_final"), final):
         data[name] = ((), value)
     data["n_collisions"] = ((), len(log))
+    if scene.lattice is not None:
+        data["cell_a1"] = (dim, log[:, layout.LOG_CELL_A1].astype(np.int64))
+        data["cell_a2"] = (dim, log[:, layout.LOG_CELL_A2].astype(np.int64))
+        data["cell_a1_final"] = ((), cell[0])
+        data["cell_a2_final"] = ((), cell[1])
     ds = xr.Dataset(data, coords={"collision": np.arange(len(log))})
     ds.attrs.update(
         title="noslipsim orbit",

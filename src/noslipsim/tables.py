@@ -128,3 +128,41 @@ def stadium(length=1.0, radius=1.0, *, law="no-slip", gamma=UNIFORM_DISK, force=
         Segment((a, radius), (-a, radius)),
         Arc((-a, 0.0), radius, math.pi / 2, 3 * math.pi / 2, "inside"),
     ], law, gamma, force)
+
+
+def sinai_torus(radius=0.25, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0)):
+    """Sinai billiard on the unit square torus: a disk of ``radius`` at the origin, lattice ``Z^2``.
+
+    Positions are unfolded (the Lorentz gas on a square lattice); cell indices
+    say which copy of the torus holds the particle.
+    """
+    if not 0 < radius < 0.5:
+        raise ValueError(f"radius: must lie in (0, 1/2) on the unit torus, got {radius}")
+    return Scene((Circle((0.0, 0.0), radius, "outside"),), law=law, gamma=gamma, force=force,
+                 lattice={"a1": [1.0, 0.0], "a2": [0.0, 1.0]})
+
+
+def hex_lorentz_cell(radius=0.3, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0)):
+    """Disk of ``radius`` in the hexagonal Wigner–Seitz cell of the unit triangular lattice.
+
+    Lattice ``a1 = (1, 0)``, ``a2 = (1/2, sqrt(3)/2)``: the periodic Lorentz gas
+    (disks must not overlap: ``radius < 1/2``).
+    """
+    if not 0 < radius < 0.5:
+        raise ValueError(f"radius: must lie in (0, 1/2) on the unit triangular lattice, got {radius}")
+    return Scene((Circle((0.0, 0.0), radius, "outside"),), law=law, gamma=gamma, force=force,
+                 lattice={"a1": [1.0, 0.0], "a2": [0.5, math.sqrt(3.0) / 2.0]})
+
+
+def galton_board(spacing=2.0, radius=0.5, gravity=1.0, *, law="no-slip", gamma=UNIFORM_DISK):
+    """Galton board: pegs of ``radius`` on a triangular lattice of ``spacing``, force ``(0, -gravity)``.
+
+    Lattice ``a1 = (spacing, 0)``, ``a2 = (spacing/2, spacing sqrt(3)/2)``; a peg
+    at the origin of every cell (the paper's board: spacing 2, radius 1/2, g = 1).
+    """
+    if not 0 < 2 * radius < spacing:
+        raise ValueError(f"radius: pegs must not touch (0 < 2 radius < spacing), got {radius}")
+    if not gravity > 0:
+        raise ValueError(f"gravity: must be > 0, got {gravity}")
+    return Scene((Circle((0.0, 0.0), radius, "outside"),), law=law, gamma=gamma, force=(0.0, -gravity),
+                 lattice={"a1": [spacing, 0.0], "a2": [spacing / 2, spacing * math.sqrt(3.0) / 2.0]})

@@ -72,19 +72,46 @@ def element_hit_time(kind, p, x, y, vx, vy, ax, ay, has_force, deflate, hi, exte
 
 
 @jit
-def next_hit(kinds, params, x, y, vx, vy, ax, ay, has_force, current, hi, extent_tol):
-    """Earliest hit ``(t, element)`` over all elements (ties go to the lower index), or ``(inf, -1)``."""
+def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_force,
+                cur_e, cur_o1, cur_o2, hi, extent_tol, t_in):
+    """Earliest hit in ``(0, hi]`` over the element copies that reach cell ``(d1, d2)``.
+
+    ``copies[k] = (element, o1, o2)``: element translated by ``o1 a1 + o2 a2``
+    (the columns of ``A``) relative to the cell; a plain scene has one copy per
+    element with zero offset.  The copy just hit, ``(cur_e, cur_o1, cur_o2)`` in
+    absolute offsets, is deflated on the flight from ``(x, y)``.  Every other
+    copy is solved on the flight re-centred at ``t_in`` (when the particle
+    enters the cell), so a long flight's crossing polynomial is formed at the
+    scale of the cell and keeps its digits.  Ties go to the earlier copy.
+    Returns ``(t, element, o1, o2)`` or ``(inf, -1, 0, 0)``.
+    """
+    xi, yi = flight_position(x, y, vx, vy, ax, ay, t_in)
+    vxi = vx + ax * t_in
+    vyi = vy + ay * t_in
     best_t = hi
-    best_i = -1
-    for i in range(kinds.shape[0]):
-        t = element_hit_time(kinds[i], params[i], x, y, vx, vy, ax, ay, has_force,
-                             i == current, best_t, extent_tol)
-        if t < best_t or (best_i < 0 and t == best_t and t < INF):
+    best_e = -1
+    best_o1 = 0
+    best_o2 = 0
+    for k in range(copies.shape[0]):
+        e = copies[k, 0]
+        o1 = copies[k, 1] + d1
+        o2 = copies[k, 2] + d2
+        sx = o1 * A[0, 0] + o2 * A[0, 1]
+        sy = o1 * A[1, 0] + o2 * A[1, 1]
+        if e == cur_e and o1 == cur_o1 and o2 == cur_o2:
+            t = element_hit_time(kinds[e], params[e], x - sx, y - sy, vx, vy, ax, ay, has_force,
+                                 True, best_t, extent_tol)
+        else:
+            t = t_in + element_hit_time(kinds[e], params[e], xi - sx, yi - sy, vxi, vyi, ax, ay,
+                                        has_force, False, best_t - t_in, extent_tol)
+        if t < best_t or (best_e < 0 and t == best_t and t < INF):
             best_t = t
-            best_i = i
-    if best_i < 0:
-        return INF, -1
-    return best_t, best_i
+            best_e = e
+            best_o1 = o1
+            best_o2 = o2
+    if best_e < 0:
+        return INF, -1, 0, 0
+    return best_t, best_e, best_o1, best_o2
 
 
 @jit

@@ -30,7 +30,18 @@ STOP_CORNER = 4
 STOP_GRAZING = 5
 STOP_REASONS = ("max_collisions", "max_time", "escape", "stop_below", "corner", "grazing")
 
-#: Columns of the collision log written by the event loop.
+#: What the event loop records per collision.
+RECORD_NONE = 0      # nothing: the final state is returned anyway
+RECORD_LOG = 1       # every collision, N_LOG columns
+RECORD_PORTRAIT = 2  # collisions on masked elements, N_PORTRAIT columns
+
+#: Columns of the collision log (positions unfolded; cell indices for lattices).
 LOG_T, LOG_X, LOG_Y, LOG_VX, LOG_VY, LOG_W = 0, 1, 2, 3, 4, 5
 LOG_VX_IN, LOG_VY_IN, LOG_W_IN, LOG_ELEMENT, LOG_S, LOG_CORNER = 6, 7, 8, 9, 10, 11
-N_LOG = 12
+LOG_CELL_A1, LOG_CELL_A2 = 12, 13
+N_LOG = 14
+
+#: Columns of a phase-portrait record: element, arclength, and the post-collision
+#: unit vector (w, v_t, v_n)/|(w, v_t, v_n)| in the frame (n outward, t = J n).
+POR_ELEMENT, POR_S, POR_W, POR_VT, POR_VN = 0, 1, 2, 3, 4
+N_PORTRAIT = 5

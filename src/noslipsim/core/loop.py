@@ -2,45 +2,55 @@
 
 One bounce is three named steps (as in DynamicalBilliards.jl):
 
-1. next hit: the earliest exit root over all elements (:func:`events.next_hit`);
+1. next hit: the earliest exit root over the element copies the flight can
+   reach (:func:`events.hit_in_cell`; on a lattice, cell by cell with
+   :func:`cells.walk_hit`);
 2. relocate: evaluate the flight at that root and project onto the element
    (:func:`geometry.place_on_element`), so rounding never leaves the particle
    outside;
 3. resolve: apply the collision law (:func:`laws.collide`).
 
-Corner rule: after a hit, every other element that touches the hit point
-(within ``CONTACT_TOL``) and that the new velocity would leave through is hit
-at once, in index order, each counted as a collision with ``corner = 1``;
-at a right-angle corner this reverses the velocity as the limit of nearby
-orbits does.  More than ``MAX_CORNER_BOUNCES`` in a row stop the orbit.
+Corner rule: after a hit, every other element copy that touches the hit point
+(within ``CONTACT_TOL``) and whose supporting line or circle the new velocity
+leaves through is hit at once, in index order, each counted as a collision
+with ``corner = 1``.  More than ``MAX_CORNER_BOUNCES`` in a row stop the orbit.
 
-Positions and times are always relative to the last collision; only the
-total time is a running sum.
+Positions are relative to the particle's current lattice cell (plain scenes:
+one cell, ``A = 0``) and flights start from the last collision; only the total
+time is a running sum.
 """
 import math
 
-from .events import flight_position, leaves_through_contact, next_hit, slides_off
+import numpy as np
+
+from .cells import walk_hit
+from .events import flight_position, hit_in_cell, leaves_through_contact, slides_off
 from .geometry import arclength, place_on_element
 from .jit import jit
 from .laws import collide
 from .layout import (
-    LOG_CORNER, LOG_ELEMENT, LOG_S, LOG_T, LOG_VX, LOG_VX_IN, LOG_VY, LOG_VY_IN, LOG_W,
-    LOG_W_IN, LOG_X, LOG_Y, STOP_CORNER, STOP_ESCAPE, STOP_GRAZING, STOP_LEVEL,
+    LOG_CELL_A1, LOG_CELL_A2, LOG_CORNER, LOG_ELEMENT, LOG_S, LOG_T, LOG_VX, LOG_VX_IN, LOG_VY,
+    LOG_VY_IN, LOG_W, LOG_W_IN, LOG_X, LOG_Y, POR_ELEMENT, POR_S, POR_VN, POR_VT, POR_W,
+    RECORD_LOG, RECORD_PORTRAIT, STOP_CORNER, STOP_ESCAPE, STOP_GRAZING, STOP_LEVEL,
     STOP_MAX_COLLISIONS, STOP_MAX_TIME,
 )
 from .roots import quadratic_exit
-from .tolerances import CONTACT_TOL, EXTENT_TOL, MAX_CORNER_BOUNCES
+from .tolerances import CONTACT_TOL, EXTENT_TOL, MAX_CELLS_PER_FLIGHT, MAX_CORNER_BOUNCES
 
 INF = math.inf
 
 
 @jit
-def _record(log, n, t, x, y, vx, vy, w, vx_in, vy_in, w_in, kind, p, element, corner):
-    if n < log.shape[0]:
-        row = log[n]
+def _record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w, vx_in, vy_in, w_in,
+            kind, p, sx, sy, element, corner, nx, ny):
+    """Write one collision into ``rec`` as ``mode`` asks; returns the new record count."""
+    if n_rec >= rec.shape[0]:
+        return n_rec
+    if mode == RECORD_LOG:
+        row = rec[n_rec]
         row[LOG_T] = t
-        row[LOG_X] = x
-        row[LOG_Y] = y
+        row[LOG_X] = x + ox
+        row[LOG_Y] = y + oy
         row[LOG_VX] = vx
         row[LOG_VY] = vy
         row[LOG_W] = w
@@ -48,33 +58,63 @@ def _record(log, n, t, x, y, vx, vy, w, vx_in, vy_in, w_in, kind, p, element, co
         row[LOG_VY_IN] = vy_in
         row[LOG_W_IN] = w_in
         row[LOG_ELEMENT] = element
-        row[LOG_S] = arclength(kind, p, x, y)
+        row[LOG_S] = arclength(kind, p, x - sx, y - sy)
         row[LOG_CORNER] = corner
+        row[LOG_CELL_A1] = m1
+        row[LOG_CELL_A2] = m2
+        return n_rec + 1
+    if mode == RECORD_PORTRAIT and mask[element]:
+        row = rec[n_rec]
+        vt = -vx * ny + vy * nx
+        vn = vx * nx + vy * ny
+        norm = math.sqrt(w * w + vt * vt + vn * vn)
+        row[POR_ELEMENT] = element
+        row[POR_S] = arclength(kind, p, x - sx, y - sy)
+        row[POR_W] = w / norm
+        row[POR_VT] = vt / norm
+        row[POR_VN] = vn / norm
+        return n_rec + 1
+    return n_rec
 
 
 @jit
-def _contact_element(kinds, params, x, y, vx, vy, ax, ay, current, tol):
-    for j in range(kinds.shape[0]):
-        if j != current and leaves_through_contact(kinds[j], params[j], x, y, vx, vy, ax, ay, tol):
-            return j
-    return -1
+def _contact(kinds, params, copies, A, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2, tol):
+    """First element copy (other than the current one) touched here and left through, or ``(-1, 0, 0)``."""
+    for k in range(copies.shape[0]):
+        e = copies[k, 0]
+        o1 = copies[k, 1]
+        o2 = copies[k, 2]
+        if e == cur_e and o1 == cur_o1 and o2 == cur_o2:
+            continue
+        sx = o1 * A[0, 0] + o2 * A[0, 1]
+        sy = o1 * A[1, 0] + o2 * A[1, 1]
+        if leaves_through_contact(kinds[e], params[e], x - sx, y - sy, vx, vy, ax, ay, tol):
+            return e, o1, o2
+    return -1, 0, 0
 
 
 @jit
-def run_orbit(kinds, params, law, c, s, ax, ay, x, y, vx, vy, w,
-              max_collisions, max_time, stop_below, scale, log):
+def run_orbit(kinds, params, copies, A, B, lattice, law, c, s, ax, ay, x, y, vx, vy, w,
+              max_collisions, max_time, stop_below, scale, mode, rec, mask):
     """Run one orbit from a state strictly inside the table.
 
     Parameters
     ----------
     kinds, params : arrays
         Scene elements (see :mod:`noslipsim.core.layout`).
+    copies : int64 array (K, 3)
+        Element copies ``(element, o1, o2)`` that reach a cell; a plain scene
+        lists each element once with zero offsets.
+    A, B : float64 arrays (2, 2)
+        Lattice vectors as columns and the inverse matrix (zeros for plain scenes).
+    lattice : bool
+        Walk cells (periodic scene) or not.
     law : int
         ``SPECULAR`` or ``NOSLIP``; ``c, s`` are the no-slip coefficients.
     ax, ay : float
         Constant acceleration (force per unit mass).
     x, y, vx, vy, w : float
-        Initial position, velocity and scaled spin ``w = gamma R omega``.
+        Initial position (in cell 0), velocity and scaled spin ``w = gamma R omega``.
     max_collisions : int
         Stop after this many collisions (corner collisions included).
     max_time : float
@@ -83,64 +123,105 @@ def run_orbit(kinds, params, law, c, s, ax, ay, x, y, vx, vy, w,
         Stop when the particle crosses this height downwards; ``-inf`` for none.
     scale : float
         Length scale of the scene, for the relative tolerances.
-    log : float64 array (n_log, N_LOG)
-        Collision records for the first ``n_log`` collisions (may have 0 rows).
+    mode : int
+        ``RECORD_NONE``, ``RECORD_LOG`` or ``RECORD_PORTRAIT``.
+    rec : float64 array
+        Output rows for the records (as many as fit are written).
+    mask : bool array (n_elements,)
+        Elements whose collisions a portrait records.
 
     Returns
     -------
-    n, stop, n_corner, t, x, y, vx, vy, w
-        Collision count, stop code, corner collisions, and the final state.
+    n, stop, n_corner, n_rec, t, x, y, vx, vy, w, m1, m2
+        Collision count, stop code, corner collisions, records written, and the
+        final state with unfolded position and cell indices.
     """
     has_force = ax != 0.0 or ay != 0.0
     t = 0.0
-    current = -1
+    cur_e = -1
+    cur_o1 = 0
+    cur_o2 = 0
+    m1 = 0
+    m2 = 0
+    ox = 0.0
+    oy = 0.0
     n = 0
+    n_rec = 0
     n_corner = 0
     stop = STOP_MAX_COLLISIONS
     while n < max_collisions:
         length = max(scale, abs(x), abs(y))
         extent_tol = EXTENT_TOL * length
         remaining = max_time - t
-        t_hit, i_hit = next_hit(kinds, params, x, y, vx, vy, ax, ay, has_force, current,
-                                INF, extent_tol)
         t_level = INF
         if stop_below > -INF:
-            t_level = quadratic_exit(y - stop_below, vy, 0.5 * ay, INF)
+            t_level = quadratic_exit(y + oy - stop_below, vy, 0.5 * ay, INF)
+        if lattice:
+            limit = min(remaining, t_level)
+            t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay,
+                                                has_force, cur_e, cur_o1, cur_o2, limit, extent_tol,
+                                                MAX_CELLS_PER_FLIGHT)
+            escape = status == 2 or (status == 1 and limit == INF)
+        else:
+            t_hit, e, o1, o2 = hit_in_cell(kinds, params, copies, A, 0, 0, x, y, vx, vy, ax, ay,
+                                           has_force, cur_e, cur_o1, cur_o2, INF, extent_tol, 0.0)
+            escape = e < 0  # no element ahead: the orbit leaves for good
         if t_level < INF and t_level <= t_hit and t_level <= remaining:
             x, y = flight_position(x, y, vx, vy, ax, ay, t_level)
-            y = stop_below
+            y = stop_below - oy
             vx += ax * t_level
             vy += ay * t_level
             t += t_level
             stop = STOP_LEVEL
             break
-        if i_hit < 0:  # no element ahead: the orbit leaves for good (state of the last collision)
+        if escape:
             stop = STOP_ESCAPE
             break
-        if t_hit > remaining:
+        if e < 0 or t_hit > remaining:
             x, y = flight_position(x, y, vx, vy, ax, ay, remaining)
             vx += ax * remaining
             vy += ay * remaining
             t = max_time
             stop = STOP_MAX_TIME
             break
-        # relocate onto the element, then resolve the collision
+        # relocate onto the element copy, then resolve the collision
         hx, hy = flight_position(x, y, vx, vy, ax, ay, t_hit)
         vx_in = vx + ax * t_hit
         vy_in = vy + ay * t_hit
-        kind = kinds[i_hit]
-        p = params[i_hit]
-        x, y, nx, ny = place_on_element(kind, p, hx, hy)
+        kind = kinds[e]
+        p = params[e]
+        sx = o1 * A[0, 0] + o2 * A[0, 1]
+        sy = o1 * A[1, 0] + o2 * A[1, 1]
+        px, py, nx, ny = place_on_element(kind, p, hx - sx, hy - sy)
+        x = px + sx
+        y = py + sy
+        if lattice:  # re-base onto the cell that now holds the particle
+            k1 = int(np.rint(B[0, 0] * x + B[0, 1] * y))
+            k2 = int(np.rint(B[1, 0] * x + B[1, 1] * y))
+            if k1 != 0 or k2 != 0:
+                x -= k1 * A[0, 0] + k2 * A[0, 1]
+                y -= k1 * A[1, 0] + k2 * A[1, 1]
+                m1 += k1
+                m2 += k2
+                o1 -= k1
+                o2 -= k2
+                ox = m1 * A[0, 0] + m2 * A[0, 1]
+                oy = m1 * A[1, 0] + m2 * A[1, 1]
+                sx = o1 * A[0, 0] + o2 * A[0, 1]
+                sy = o1 * A[1, 0] + o2 * A[1, 1]
         vx, vy, w_out = collide(law, c, s, vx_in, vy_in, w, nx, ny)
         t += t_hit
-        _record(log, n, t, x, y, vx, vy, w_out, vx_in, vy_in, w, kind, p, i_hit, 0.0)
+        n_rec = _record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w_out, vx_in, vy_in, w,
+                        kind, p, sx, sy, e, 0.0, nx, ny)
         w = w_out
         n += 1
-        current = i_hit
-        # corner rule: other elements touched here that the particle would leave through
+        cur_e = e
+        cur_o1 = o1
+        cur_o2 = o2
+        # corner rule: other element copies touched here that the particle would leave through
         bounces = 0
         while n < max_collisions:
-            j = _contact_element(kinds, params, x, y, vx, vy, ax, ay, current,
+            j, o1, o2 = _contact(kinds, params, copies, A, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2,
                                  CONTACT_TOL * length)
             if j < 0:
                 break
@@ -150,18 +231,28 @@ def run_orbit(kinds, params, law, c, s, ax, ay, x, y, vx, vy, w,
                 break
             kind = kinds[j]
             p = params[j]
-            nx, ny = place_on_element(kind, p, x, y)[2:]
+            sx = o1 * A[0, 0] + o2 * A[0, 1]
+            sy = o1 * A[1, 0] + o2 * A[1, 1]
+            nx, ny = place_on_element(kind, p, x - sx, y - sy)[2:]
             vx_in = vx
             vy_in = vy
             vx, vy, w_out = collide(law, c, s, vx_in, vy_in, w, nx, ny)
-            _record(log, n, t, x, y, vx, vy, w_out, vx_in, vy_in, w, kind, p, j, 1.0)
+            n_rec = _record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w_out, vx_in, vy_in, w,
+                            kind, p, sx, sy, j, 1.0, nx, ny)
             w = w_out
             n += 1
             n_corner += 1
-            current = j
+            cur_e = j
+            cur_o1 = o1
+            cur_o2 = o2
         if stop == STOP_CORNER:
             break
-        if slides_off(kinds[current], params[current], x, y, vx, vy, ax, ay):
+        sx = cur_o1 * A[0, 0] + cur_o2 * A[0, 1]
+        sy = cur_o1 * A[1, 0] + cur_o2 * A[1, 1]
+        if slides_off(kinds[cur_e], params[cur_e], x - sx, y - sy, vx, vy, ax, ay):
             stop = STOP_GRAZING
             break
-    return n, stop, n_corner, t, x, y, vx, vy, w
+    if lattice:  # the final state may lie in another cell (a stop in mid-flight)
+        m1 += int(np.rint(B[0, 0] * x + B[0, 1] * y))
+        m2 += int(np.rint(B[1, 0] * x + B[1, 1] * y))
+    return n, stop, n_corner, n_rec, t, x + ox, y + oy, vx, vy, w, m1, m2

@@ -23,3 +23,7 @@ ROOT_MAX_ITER = 200
 #: Consecutive zero-time corner collisions allowed before the orbit stops
 #: with stop reason ``corner`` (a corner of angle pi/k needs k of them).
 MAX_CORNER_BOUNCES = 64
+
+#: Cells one flight may cross in a periodic scene before it counts as an
+#: endless free flight (an escape along a corridor).
+MAX_CELLS_PER_FLIGHT = 10_000_000

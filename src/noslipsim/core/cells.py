@@ -1,0 +1,84 @@
+"""Periodic lattices: walk the cells a flight crosses until a hit comes before the exit.
+
+Cell ``(d1, d2)`` is the parallelogram ``{alpha a1 + beta a2 : |alpha - d1|, |beta - d2| <= 1/2}``
+(centred cells: an obstacle at the origin lies inside cell 0).  Positions are
+kept relative to the particle's current cell, so their precision is that of the
+cell size however far an orbit diffuses.  For each cell the walk tests only the
+element copies that reach it (precomputed, ``copies``) with the time window
+capped at the cell's exit time; a hit found there is the earliest, because any
+earlier hit lies in an earlier cell, where the same copy was tested.  Infinite
+horizon corridors cost one cell per step and miss nothing.
+"""
+import math
+
+from .events import hit_in_cell
+from .jit import jit
+from .roots import quadratic_exit
+
+INF = math.inf
+
+
+@jit
+def _boundary_exit(g, rate, curv):
+    """Time until ``g(tau) = g + rate tau + curv tau^2`` (positive inside) leaves, from ``tau = 0``.
+
+    On or past the boundary and moving out: 0 (leave at once).
+    """
+    if g <= 0.0 and (rate < 0.0 or (rate == 0.0 and curv < 0.0)):
+        return 0.0
+    return quadratic_exit(g, rate, curv, INF)
+
+
+@jit
+def _strip_exit(alpha0, alpha1, alpha2, lo, hi, t_in):
+    """First time ``>= t_in`` at which ``alpha(t) = alpha0 + alpha1 t + alpha2 t^2`` leaves ``[lo, hi]``.
+
+    The polynomial is re-centred at ``t_in``.  Returns ``(t, step)`` with
+    ``step = +1`` through ``hi``, ``-1`` through ``lo``, or ``(inf, 0)``.
+    """
+    al = alpha0 + t_in * (alpha1 + alpha2 * t_in)
+    rate = alpha1 + 2.0 * alpha2 * t_in
+    t_up = _boundary_exit(hi - al, -rate, -alpha2)
+    t_dn = _boundary_exit(al - lo, rate, alpha2)
+    if t_up == INF and t_dn == INF:
+        return INF, 0
+    if t_up <= t_dn:
+        return t_in + t_up, 1
+    return t_in + t_dn, -1
+
+
+@jit
+def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
+             cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells):
+    """Earliest hit of a flight from ``(x, y)`` (relative to cell 0) in a periodic scene.
+
+    Returns ``(t, element, o1, o2, status)``: ``status`` 0 for a hit, 1 when the
+    walk passed ``t_limit`` without a hit, 2 when it crossed ``max_cells`` cells
+    without a hit (an endless free flight, reported as an escape).
+    """
+    # lattice coordinates along the flight: alpha(t) = B[0].q(t), beta(t) = B[1].q(t)
+    a0 = B[0, 0] * x + B[0, 1] * y
+    a1 = B[0, 0] * vx + B[0, 1] * vy
+    a2 = 0.5 * (B[0, 0] * ax + B[0, 1] * ay)
+    b0 = B[1, 0] * x + B[1, 1] * y
+    b1 = B[1, 0] * vx + B[1, 1] * vy
+    b2 = 0.5 * (B[1, 0] * ax + B[1, 1] * ay)
+    d1 = 0
+    d2 = 0
+    t_in = 0.0
+    for _ in range(max_cells):
+        ta, sa = _strip_exit(a0, a1, a2, d1 - 0.5, d1 + 0.5, t_in)
+        tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
+        t_out = min(ta, tb)
+        t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_force,
+                                   cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in)
+        if e >= 0:
+            return t, e, o1, o2, 0
+        if t_out >= t_limit:
+            return INF, -1, 0, 0, 1
+        if ta == t_out:
+            d1 += sa
+        if tb == t_out:
+            d2 += sb
+        t_in = t_out
+    return INF, -1, 0, 0, 2

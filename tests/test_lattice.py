@@ -1,0 +1,189 @@
+"""Periodic lattices: cell walk against explicit copies, corridors, Santaló's formula."""
+import math
+
+import numpy as np
+import pytest
+
+from noslipsim import Circle, Scene, Segment, simulate, tables
+from noslipsim.lattice import cell_of, reaching_copies
+
+
+def explicit_copies(scene, cells):
+    """The same table written out with one element per copy, over a block of cells."""
+    A = np.array([scene.lattice["a1"], scene.lattice["a2"]]).T
+    (i0, j0), (i1, j1) = cells
+    elems = [e.shifted(*(A @ [i, j])) for i in range(i0, i1 + 1) for j in range(j0, j1 + 1) for e in scene.elements]
+    return Scene(tuple(elems), law=scene.law, gamma=scene.gamma, force=scene.force)
+
+
+def mid_flight(scene, ds, k):
+    """State halfway along the flight after collision ``k``."""
+    tau = 0.5 * float(ds.t[k + 1] - ds.t[k])
+    ax, ay = scene.force
+    q = (float(ds.x[k] + ds.vx[k] * tau + 0.5 * ax * tau ** 2), float(ds.y[k] + ds.vy[k] * tau + 0.5 * ay * tau ** 2))
+    v = (float(ds.vx[k] + ax * tau), float(ds.vy[k] + ay * tau))
+    return q, v, float(ds.spin[k]), tau
+
+
+LATTICES = {
+    "sinai_torus": (tables.sinai_torus(0.3), (0.4, 0.1), (0.7, 0.31)),
+    "hex_lorentz": (tables.hex_lorentz_cell(0.3), (0.4, 0.1), (0.7, 0.31)),
+    "galton": (tables.galton_board(), (1.0, 0.0), (0.3, 0.95)),
+    "sinai_gravity_tilted": (tables.sinai_torus(0.2, force=(0.1, -0.3)), (0.4, 0.1), (0.7, 0.31)),
+}
+
+
+@pytest.mark.parametrize("name", sorted(LATTICES))
+def test_every_flight_matches_explicit_copies(name):
+    scene, q, v = LATTICES[name]
+    ds = simulate(scene, q, v, 0.2, max_collisions=150)
+    checked = 0
+    for k in range(0, len(ds.t) - 1, 3):
+        start, vel, spin, tau = mid_flight(scene, ds, k)
+        ends = cell_of(np.array([start, (float(ds.x[k + 1]), float(ds.y[k + 1]))]), scene.lattice)
+        if np.abs(ends[1] - ends[0]).max() > 6:
+            # a plain scene loses digits on long flights (|q - c|^2 - r^2 cancels at |q - c| >> r);
+            # those are checked against exact arithmetic in test_long_corridor_flights_keep_their_digits
+            continue
+        checked += 1
+        flat = explicit_copies(scene, (tuple(ends.min(axis=0) - 3), tuple(ends.max(axis=0) + 3)))
+        nxt = simulate(flat, start, vel, spin, max_collisions=1)
+        assert int(nxt.n_collisions) == 1, f"collision {k + 1} not found in the explicit scene"
+        t_next = float(ds.t[k]) + tau + float(nxt.t[0])
+        assert t_next == pytest.approx(float(ds.t[k + 1]), rel=1e-11, abs=1e-11)
+        for name_ in ("x", "y", "vx", "vy", "spin"):
+            assert float(nxt[name_][0]) == pytest.approx(float(ds[name_][k + 1]), rel=1e-10, abs=1e-10), name_
+    assert checked >= 30
+
+
+@pytest.mark.parametrize("slope", [1e-3, 2e-3, 3e-4, -7e-4])
+def test_long_corridor_flights_keep_their_digits(slope):
+    """First hit of a long nearly-corridor flight vs exact line-circle intersection at 50 digits."""
+    import mpmath as mp
+    mp.mp.dps = 50
+    r = 0.1
+    scene = tables.sinai_torus(r, law="specular")
+    q = (0.5, 0.23 if slope > 0 else 0.77)
+    v = np.array([1.0, slope]) / np.hypot(1.0, slope)
+    ds = simulate(scene, q, v, 0.0, max_collisions=1)
+    cx = mp.mpf(int(ds.cell_a1[0]))
+    cy = mp.mpf(int(ds.cell_a2[0]))
+    dx, dy = mp.mpf(q[0]) - cx, mp.mpf(q[1]) - cy
+    vx, vy = mp.mpf(v[0]), mp.mpf(v[1])
+    b = dx * vx + dy * vy
+    c = dx * dx + dy * dy - mp.mpf(r) ** 2
+    a = vx * vx + vy * vy
+    t = (-b - mp.sqrt(b * b - a * c)) / a
+    assert float(ds.t[0]) > 20  # a long flight indeed
+    assert float(ds.t[0]) == pytest.approx(float(t), rel=1e-13)
+    assert float(ds.y[0]) == pytest.approx(float(mp.mpf(q[1]) + vy * t), rel=1e-13, abs=1e-13)
+
+
+def test_first_collisions_identical_to_explicit_copies():
+    """Whole-orbit comparison: rounding differences grow ~10x per collision on the
+    Galton board (chaos), so positions agree to 1e-12 over the first collisions and
+    the pegs hit agree further; every single flight is checked in the test above."""
+    scene, q, v = LATTICES["galton"]
+    flat = explicit_copies(scene, ((-12, -12), (12, 12)))
+    a = simulate(scene, q, v, 0.1, max_collisions=10)
+    b = simulate(flat, q, v, 0.1, max_collisions=10)
+    np.testing.assert_allclose(a.x.values[:5], b.x.values[:5], rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(a.t.values[:5], b.t.values[:5], rtol=1e-12)
+    pegs_flat = cell_of(np.array([flat.elements[i].center for i in b.element.values]), scene.lattice)
+    np.testing.assert_array_equal(pegs_flat[:, 0], a.cell_a1.values)
+    np.testing.assert_array_equal(pegs_flat[:, 1], a.cell_a2.values)
+
+
+def chord_misses(scene, ds, radius):
+    """Smallest (distance from a disk centre to a flight chord) - radius over all flights (no force)."""
+    p0 = np.c_[ds.x.values[:-1], ds.y.values[:-1]]
+    p1 = np.c_[ds.x.values[1:], ds.y.values[1:]]
+    A = np.array([scene.lattice["a1"], scene.lattice["a2"]]).T
+    worst = np.inf
+    for a, b in zip(p0, p1):
+        lo = cell_of(np.minimum(a, b), scene.lattice) - 2
+        hi = cell_of(np.maximum(a, b), scene.lattice) + 2
+        ii, jj = np.meshgrid(np.arange(lo[0], hi[0] + 1), np.arange(lo[1], hi[1] + 1))
+        centres = np.c_[ii.ravel(), jj.ravel()] @ A.T
+        d = b - a
+        u = np.clip(((centres - a) @ d) / (d @ d), 0.0, 1.0)
+        dist = np.hypot(*(a + u[:, None] * d - centres).T)
+        # the two disks the chord ends on are touched at its ends: skip those
+        ends = (np.hypot(*(centres - a).T) <= radius * (1 + 1e-9)) | (np.hypot(*(centres - b).T) <= radius * (1 + 1e-9))
+        dist = dist[~ends]
+        if dist.size:
+            worst = min(worst, float(dist.min() - radius))
+    return worst
+
+
+@pytest.mark.parametrize("direction", [(1.0, 1e-4), (1.0, 1.0 + 1e-5), (2.0, 1.0 + 3e-6), (1e-7, 1.0), (3.0, -1.0)])
+@pytest.mark.parametrize("law", ["specular", "no-slip"])
+def test_no_collision_missed_in_corridors(direction, law):
+    r = 0.05
+    scene = tables.sinai_torus(r, law=law)
+    d = np.array(direction) / np.hypot(*direction)
+    ds = simulate(scene, (0.5, 0.5 - 1e-3), d, 0.0, max_collisions=300)
+    assert ds.attrs["stop_reason"] == "max_collisions"
+    assert chord_misses(scene, ds, r) > -1e-10
+
+
+def test_orbit_exactly_along_a_corridor_escapes():
+    scene = tables.sinai_torus(0.1)
+    ds = simulate(scene, (0.5, 0.5), (1.0, 0.0), 0.0, max_collisions=10)
+    assert ds.attrs["stop_reason"] == "escape" and int(ds.n_collisions) == 0
+
+
+def test_corridor_flight_with_time_limit_stops_at_the_limit():
+    scene = tables.sinai_torus(0.1)
+    ds = simulate(scene, (0.5, 0.5), (1.0, 0.0), 0.0, max_collisions=10, max_time=1e4)
+    assert ds.attrs["stop_reason"] == "max_time"
+    assert float(ds.x_final) == pytest.approx(0.5 + 1e4)
+    assert int(ds.cell_a1_final) == round(0.5 + 1e4)
+
+
+@pytest.mark.parametrize("r", [0.1, 0.25, 0.4])
+def test_santalo_mean_free_path(r):
+    """Specular Sinai torus: mean free path = pi |Q| / |dQ| = (1 - pi r^2) / (2 r)."""
+    scene = tables.sinai_torus(r, law="specular")
+    total, count = 0.0, 0
+    for ang in (0.3, 1.1, 2.0):
+        ds = simulate(scene, (0.45, 0.1), (math.cos(ang), math.sin(ang)), 0.0, max_collisions=200_000)
+        total += float(ds.t[-1] - ds.t[0])
+        count += len(ds.t) - 1
+    expected = (1 - math.pi * r * r) / (2 * r)
+    assert total / count == pytest.approx(expected, rel=0.01)
+
+
+def test_unfolded_positions_and_cells_agree():
+    scene, q, v = LATTICES["hex_lorentz"]
+    ds = simulate(scene, q, v, 0.0, max_collisions=500)
+    cells = cell_of(np.c_[ds.x.values, ds.y.values], scene.lattice)
+    # a collision point on a disk can sit on the cell edge only if r > half the cell: not here
+    np.testing.assert_array_equal(cells[:, 0], ds.cell_a1.values)
+    np.testing.assert_array_equal(cells[:, 1], ds.cell_a2.values)
+    assert np.all(np.abs(ds.energy - ds.energy[0]) < 1e-13)
+
+
+def test_start_in_any_cell():
+    scene = tables.sinai_torus(0.3)
+    a = simulate(scene, (0.4, 0.1), (0.7, 0.31), 0.0, max_collisions=5)
+    b = simulate(scene, (0.4 + 7, 0.1 - 3), (0.7, 0.31), 0.0, max_collisions=5)
+    np.testing.assert_allclose(b.x.values - 7, a.x.values, atol=1e-13)
+    np.testing.assert_array_equal(b.cell_a1.values - 7, a.cell_a1.values)
+    with pytest.raises(ValueError, match="position"):
+        simulate(scene, (5.0, -2.0), (1.0, 0.0))  # inside a disk copy
+
+
+def test_reaching_copies():
+    lat = {"a1": [1.0, 0.0], "a2": [0.0, 1.0]}
+    assert reaching_copies([Circle((0.0, 0.0), 0.3)], lat).tolist() == [[0, 0, 0]]
+    corner = reaching_copies([Circle((0.5, 0.5), 0.1)], lat)
+    assert sorted(map(tuple, corner[:, 1:].tolist())) == [(-1, -1), (-1, 0), (0, -1), (0, 0)]
+    seg = reaching_copies([Segment((-0.2, 0.0), (1.3, 0.0))], lat)
+    assert sorted(map(tuple, seg[:, 1:].tolist())) == [(-1, 0), (0, 0)]
+
+
+def test_lattice_rejects_infinite_lines():
+    with pytest.raises(ValueError, match="infinite lines"):
+        Scene.from_dict({"elements": [{"type": "line", "point": [0, 0], "normal": [0, 1]}],
+                         "lattice": {"a1": [1, 0], "a2": [0, 1]}})
