@@ -2,6 +2,7 @@
 from ._version import __version__
 from .elements import Arc, Circle, Line, Segment
 from .scenes import Scene
+from .ensemble import simulate_many
 from .simulate import simulate
 
-__all__ = ["__version__", "Arc", "Circle", "Line", "Segment", "Scene", "simulate"]
+__all__ = ["__version__", "Arc", "Circle", "Line", "Segment", "Scene", "simulate", "simulate_many"]

@@ -95,7 +95,7 @@ def _contact(kinds, params, copies, A, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_
 
 @jit
 def run_orbit(kinds, params, copies, A, B, lattice, law, c, s, ax, ay, x, y, vx, vy, w,
-              max_collisions, max_time, stop_below, scale, mode, rec, mask):
+              max_collisions, max_time, stop_below, scale, mode, rec, mask, start_element=-1):
     """Run one orbit from a state strictly inside the table.
 
     Parameters
@@ -129,6 +129,10 @@ def run_orbit(kinds, params, copies, A, B, lattice, law, c, s, ax, ay, x, y, vx,
         Output rows for the records (as many as fit are written).
     mask : bool array (n_elements,)
         Elements whose collisions a portrait records.
+    start_element : int
+        ``-1`` for a start strictly inside the table; otherwise the particle
+        starts on this element (in cell 0) as if just reflected by it, so its
+        ``t = 0`` root is deflated (boundary initial conditions).
 
     Returns
     -------
@@ -138,7 +142,7 @@ def run_orbit(kinds, params, copies, A, B, lattice, law, c, s, ax, ay, x, y, vx,
     """
     has_force = ax != 0.0 or ay != 0.0
     t = 0.0
-    cur_e = -1
+    cur_e = start_element
     cur_o1 = 0
     cur_o2 = 0
     m1 = 0

@@ -1,0 +1,290 @@
+"""Many orbits at once: validation, chunks scheduled by dask, one compiled call per chunk.
+
+Dask lives here and only here.  Locally the chunks run on dask's threaded
+scheduler (the kernels release the GIL); pass a ``dask.distributed`` Client or
+scheduler address to run them on a cluster.  Orbits are independent and
+deterministic, so the dataset is identical whatever the chunk size, the
+scheduler or the number of workers.
+"""
+from __future__ import annotations
+
+import math
+import os
+import sys
+
+import numpy as np
+import xarray as xr
+
+from ._validate import finite_float
+from ._version import __version__
+from .core import layout
+from .core.batch import (
+    F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y, N_FINAL,
+    run_batch, run_batch_serial,
+)
+from .lattice import cell_of, cell_origin
+from .metadata import annotate
+from .scenes import Scene
+from .simulate import START_MARGIN, check_limits
+
+RECORDS = ("final", "count", "portrait", "log")
+STOP_FLAGS = {"flag_values": list(range(len(layout.STOP_REASONS))),
+              "flag_meanings": " ".join(layout.STOP_REASONS)}
+
+
+# ---------------------------------------------------------------------------- validation
+def _array(value, shape_tail, n, field):
+    try:
+        arr = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{field}: expected numbers") from None
+    if arr.ndim != 1 + len(shape_tail) or arr.shape[1:] != shape_tail or (n is not None and len(arr) != n):
+        want = f"({n if n is not None else 'N'}{''.join(', ' + str(k) for k in shape_tail)})"
+        raise ValueError(f"{field}: expected shape {want}, got {arr.shape}")
+    bad = ~np.isfinite(arr).reshape(len(arr), -1).all(axis=1)
+    if bad.any():
+        raise ValueError(f"{field}: non-finite value for orbit {int(np.argmax(bad))}")
+    return np.ascontiguousarray(arr)
+
+
+def check_starts(scene: Scene, positions, velocities, spins, start_elements=None):
+    """Validate N initial states; returns ``(q, v, w, on)`` arrays.
+
+    Interior starts (``on[i] = -1``) must lie strictly inside the table;
+    boundary starts (``on[i] = k``) must lie on element ``k`` (of cell 0's
+    copies in a periodic scene) with a velocity entering the table.
+    """
+    q = _array(positions, (2,), None, "positions")
+    n = len(q)
+    v = _array(velocities, (2,), n, "velocities")
+    w = np.zeros(n) if spins is None else _array(spins, (), n, "spins")
+    on = np.full(n, -1, dtype=np.int64) if start_elements is None else np.asarray(start_elements, dtype=np.int64)
+    if on.shape != (n,):
+        raise ValueError(f"start_elements: expected shape ({n},), got {on.shape}")
+    if ((on < -1) | (on >= len(scene.elements))).any():
+        raise ValueError(f"start_elements: indices must be -1 or in [0, {len(scene.elements)})")
+    if scene.force == (0.0, 0.0):
+        still = (v == 0.0).all(axis=1)
+        if still.any():
+            raise ValueError(f"velocities: orbit {int(np.argmax(still))} has zero speed with zero force")
+    inside = on < 0
+    if inside.any():
+        rel = q[inside] - (cell_origin(cell_of(q[inside], scene.lattice), scene.lattice)
+                           if scene.lattice is not None else 0.0)
+        margin = START_MARGIN * np.maximum(scene.scale, np.abs(rel).max(axis=1))
+        depth = scene.depth(q[inside])
+        bad = ~(depth > margin)
+        if bad.any():
+            i = int(np.flatnonzero(inside)[np.argmax(bad)])
+            raise ValueError(f"positions: orbit {i} starts at {q[i].tolist()}, not strictly inside the table")
+    for i in np.flatnonzero(~inside):
+        e = scene.elements[on[i]]
+        tol = 1e-9 * max(scene.scale, 1.0)
+        dist = abs(float(e.side_distance(q[i])))
+        within = float(e.distance(q[i][None])[0]) if e.finite else dist
+        if dist > tol or within > tol:
+            raise ValueError(f"positions: orbit {i} is not on start element {on[i]}")
+        ahead = q[i] + 1e-6 * max(scene.scale, 1.0) * v[i] / max(np.hypot(*v[i]), 1e-300)
+        if not float(e.side_distance(ahead)) > 0:
+            raise ValueError(f"velocities: orbit {i} does not enter the table from start element {on[i]}")
+    return q, v, w, on
+
+
+# ---------------------------------------------------------------------------- one chunk
+def _run_chunk(inputs, law, c, s, force, scale, starts, on, levels, max_collisions, max_time, mode,
+               n_rec, n_cols, mask, parallel):
+    kinds, params, copies, A, B, lattice = inputs
+    n = len(starts)
+    rec = np.full((n, n_rec, n_cols), np.nan)
+    final = np.zeros((n, N_FINAL))
+    kernel = run_batch if parallel else run_batch_serial
+    kernel(kinds, params, copies, A, B, lattice, law, c, s, force[0], force[1], starts, on,
+           max_collisions, max_time, levels, scale, mode, rec, mask, final)
+    return rec, final
+
+
+def _scheduler_kwargs(scheduler):
+    if scheduler is None or scheduler in ("threads", "sync", "synchronous", "processes"):
+        return {"scheduler": scheduler or "threads"}
+    if isinstance(scheduler, str):  # a distributed scheduler address
+        from distributed import Client
+        return {"scheduler": Client(scheduler)}
+    return {"scheduler": scheduler}  # a distributed Client
+
+
+def _compute(tasks, scheduler, progress):
+    import dask
+
+    kwargs = _scheduler_kwargs(scheduler)
+    show = sys.stderr.isatty() if progress is None else bool(progress)
+    sched = kwargs["scheduler"]
+    if show and isinstance(sched, str):
+        from dask.diagnostics import ProgressBar
+        with ProgressBar(out=sys.stderr):
+            return dask.compute(*tasks, **kwargs)
+    if show and not isinstance(sched, str):
+        from distributed import progress as dprogress
+        futures = sched.compute(list(tasks))
+        dprogress(futures)
+        return sched.gather(futures)
+    return dask.compute(*tasks, **kwargs)
+
+
+# ---------------------------------------------------------------------------- public API
+def simulate_many(scene: Scene, positions, velocities, spins=None, *, max_collisions=1000,
+                  max_time=math.inf, stop_below=None, record="final", elements=None,
+                  start_elements=None, chunk_size=None, scheduler=None, progress=None):
+    """Simulate many orbits of one scene.
+
+    Parameters
+    ----------
+    scene : Scene
+        Table, law, gamma and force (plain or periodic).
+    positions, velocities : array_like (N, 2)
+        Starts ``(x, y)`` and velocities ``(v_x, v_y)``.
+    spins : array_like (N,), optional
+        Scaled spins ``w = gamma R omega`` (CCW positive); zeros by default.
+    max_collisions : int
+        Collision budget per orbit.
+    max_time : float
+        Time limit per orbit (the final state is advanced to it).
+    stop_below : float, optional
+        End an orbit when it crosses this height downwards (exact crossing).
+    record : {'final', 'count', 'portrait', 'log'}
+        ``final``: final state, ``n_collisions``, ``stop_reason``, corner count;
+        ``count``: ``n_collisions`` and ``stop_reason`` only; ``portrait``: on
+        the chosen ``elements``, ``element``, ``s`` and the post-collision unit
+        vector ``(w, v_t, v_n)`` per collision (dim ``point``); ``log``: the
+        full collision log (dim ``collision``).  Records are NaN-padded past
+        each orbit's end.
+    elements : sequence of int, optional
+        Elements recorded by ``portrait`` (default: all).
+    start_elements : array_like (N,) of int, optional
+        ``-1`` for interior starts, or the element each orbit starts on
+        (boundary initial conditions, see :mod:`noslipsim.initial`).
+    chunk_size : int, optional
+        Orbits per dask task (default: about four tasks per core).
+    scheduler : None, str or distributed.Client
+        ``None``/'threads' (local threads), 'sync', 'numba' (one parallel
+        compiled call, no dask), a ``dask.distributed`` Client or its address.
+    progress : bool, optional
+        Show a progress bar (default: only when stderr is a terminal).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dim ``orbit`` (and ``point`` or ``collision``); every variable has
+        ``long_name`` and ``units``.  ``stop_reason`` is an integer flag with CF
+        ``flag_values``/``flag_meanings``.
+    """
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene: expected a noslipsim.Scene, got {type(scene).__name__}")
+    if record not in RECORDS:
+        raise ValueError(f"record: must be one of {RECORDS}, got {record!r}")
+    q, v, w, on = check_starts(scene, positions, velocities, spins, start_elements)
+    n = len(q)
+    max_collisions, max_time = check_limits(max_collisions, max_time)
+    level = -math.inf if stop_below is None else finite_float(stop_below, "stop_below")
+    if stop_below is not None and (q[:, 1] <= level).any():
+        raise ValueError(f"stop_below: orbit {int(np.argmax(q[:, 1] <= level))} starts at or below {level}")
+    mask = np.zeros(len(scene.elements), dtype=np.bool_)
+    if record == "portrait":
+        chosen = range(len(scene.elements)) if elements is None else list(elements)
+        for e in chosen:
+            if not 0 <= int(e) < len(scene.elements):
+                raise ValueError(f"elements: no element {e} in a scene of {len(scene.elements)}")
+            mask[int(e)] = True
+    mode, n_rec, n_cols = {
+        "final": (layout.RECORD_NONE, 0, 0), "count": (layout.RECORD_NONE, 0, 0),
+        "portrait": (layout.RECORD_PORTRAIT, max_collisions, layout.N_PORTRAIT),
+        "log": (layout.RECORD_LOG, max_collisions, layout.N_LOG),
+    }[record]
+
+    # starts relative to their cells (periodic scenes)
+    if scene.lattice is not None:
+        cells = cell_of(q, scene.lattice)
+        origins = cell_origin(cells, scene.lattice)
+    else:
+        cells = np.zeros((n, 2), dtype=np.int64)
+        origins = np.zeros((n, 2))
+    starts = np.ascontiguousarray(np.c_[q - origins, v, w])
+    levels = np.full(n, level) - origins[:, 1]
+    inputs = scene.kernel_inputs()
+    c, s = scene.noslip_coefficients
+    args = (inputs, scene.law_code, c, s, scene.force, scene.scale)
+    tail = (max_collisions, max_time, mode, n_rec, n_cols, mask)
+
+    if scheduler == "numba" or n == 0:
+        rec, final = _run_chunk(*args, starts, on, levels, *tail, True)
+    else:
+        import dask
+
+        size = chunk_size or max(1, math.ceil(n / (4 * (os.cpu_count() or 1))))
+        if int(size) != size or size < 1:
+            raise ValueError(f"chunk_size: must be a positive integer, got {chunk_size}")
+        size = int(size)
+        run = dask.delayed(_run_chunk, pure=True)
+        tasks = [run(*args, starts[i:i + size], on[i:i + size], levels[i:i + size], *tail, False)
+                 for i in range(0, n, size)]
+        parts = _compute(tasks, scheduler, progress)
+        rec = np.concatenate([p[0] for p in parts]) if parts else np.zeros((0, n_rec, n_cols))
+        final = np.concatenate([p[1] for p in parts]) if parts else np.zeros((0, N_FINAL))
+    return _ensemble_dataset(scene, record, rec, final, origins, cells, dict(
+        max_collisions=max_collisions, max_time=max_time, stop_below=stop_below))
+
+
+def _ensemble_dataset(scene, record, rec, final, origins, cells, limits):
+    o = ("orbit",)
+    n_coll = final[:, F_N].astype(np.int64)
+    data = {
+        "n_collisions": (o, n_coll),
+        "stop_reason": (o, final[:, F_STOP].astype(np.int8), dict(STOP_FLAGS)),
+    }
+    if record in ("final", "log"):
+        data.update({
+            "t_final": (o, final[:, F_T]),
+            "x_final": (o, final[:, F_X] + origins[:, 0]),
+            "y_final": (o, final[:, F_Y] + origins[:, 1]),
+            "vx_final": (o, final[:, F_VX]),
+            "vy_final": (o, final[:, F_VY]),
+            "spin_final": (o, final[:, F_W]),
+            "n_corner": (o, final[:, F_CORNER].astype(np.int64)),
+        })
+        if scene.lattice is not None:
+            data["cell_a1_final"] = (o, final[:, F_CELL1].astype(np.int64) + cells[:, 0])
+            data["cell_a2_final"] = (o, final[:, F_CELL2].astype(np.int64) + cells[:, 1])
+    if record == "portrait":
+        p = ("orbit", "point")
+        data.update({
+            "element": (p, rec[:, :, layout.POR_ELEMENT]),
+            "s": (p, rec[:, :, layout.POR_S]),
+            "w_unit": (p, rec[:, :, layout.POR_W]),
+            "vt_unit": (p, rec[:, :, layout.POR_VT]),
+            "vn_unit": (p, rec[:, :, layout.POR_VN]),
+            "n_points": (o, final[:, F_NREC].astype(np.int64)),
+        })
+    if record == "log":
+        cdim = ("orbit", "collision")
+        cols = {"t": layout.LOG_T, "x": layout.LOG_X, "y": layout.LOG_Y, "vx": layout.LOG_VX,
+                "vy": layout.LOG_VY, "spin": layout.LOG_W, "vx_in": layout.LOG_VX_IN,
+                "vy_in": layout.LOG_VY_IN, "spin_in": layout.LOG_W_IN, "element": layout.LOG_ELEMENT,
+                "s": layout.LOG_S, "corner": layout.LOG_CORNER}
+        for name, col in cols.items():
+            data[name] = (cdim, rec[:, :, col])
+        data["x"] = (cdim, rec[:, :, layout.LOG_X] + origins[:, :1])
+        data["y"] = (cdim, rec[:, :, layout.LOG_Y] + origins[:, 1:])
+        if scene.lattice is not None:
+            data["cell_a1"] = (cdim, rec[:, :, layout.LOG_CELL_A1] + cells[:, :1])
+            data["cell_a2"] = (cdim, rec[:, :, layout.LOG_CELL_A2] + cells[:, 1:])
+    ds = xr.Dataset(data, coords={"orbit": np.arange(len(final))})
+    ds.attrs.update(
+        title=f"noslipsim ensemble ({record})",
+        source=f"noslipsim {__version__}",
+        record=record,
+        law=scene.law,
+        gamma=scene.gamma,
+        force=list(scene.force),
+        scene=scene.to_json(),
+        limits=str({k: (None if v is None else float(v)) for k, v in limits.items()}),
+    )
+    return annotate(ds)
