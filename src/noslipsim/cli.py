@@ -1,4 +1,8 @@
-"""Command line: ``noslipsim simulate SCENE.yaml --position X Y --velocity VX VY [--spin W] -n N [-o orbit.nc]``."""
+"""Command line.
+
+``noslipsim simulate SCENE.yaml --position X Y --velocity VX VY [--spin W] -n N [-o orbit.nc]``
+``noslipsim run CONFIG.yaml -o dataset.nc``
+"""
 from __future__ import annotations
 
 import argparse
@@ -9,7 +13,7 @@ from ._version import __version__
 
 
 def _parser():
-    p = argparse.ArgumentParser(prog="noslipsim", description=__doc__.split(":", 1)[0])
+    p = argparse.ArgumentParser(prog="noslipsim", description="noslipsim: no-slip billiards under a force")
     p.add_argument("--version", action="version", version=f"noslipsim {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
     s = sub.add_parser("simulate", help="simulate one orbit of a scene file")
@@ -21,7 +25,32 @@ def _parser():
     s.add_argument("--max-time", type=float, default=math.inf)
     s.add_argument("--stop-below", type=float, default=None, help="stop when crossing this height downwards")
     s.add_argument("-o", "--output", help="write the orbit to this netCDF file instead of printing it")
+    r = sub.add_parser("run", help="run an experiment from a YAML config and write its dataset")
+    r.add_argument("config", help="YAML: {experiment: NAME, parameters: {...}}")
+    r.add_argument("-o", "--output", required=True, help="netCDF file to write")
     return p
+
+
+def _run_experiment(args):
+    import yaml
+
+    from .experiments import EXPERIMENTS
+    from .io import write_dataset
+
+    with open(args.config, encoding="utf-8") as fh:
+        cfg = yaml.safe_load(fh)
+    if not isinstance(cfg, dict) or set(cfg) - {"experiment", "parameters"} or "experiment" not in cfg:
+        raise ValueError("config: expected a mapping with keys 'experiment' and 'parameters'")
+    name = cfg["experiment"]
+    if name not in EXPERIMENTS:
+        raise ValueError(f"config.experiment: unknown experiment {name!r}; expected one of {sorted(EXPERIMENTS)}")
+    params = cfg.get("parameters") or {}
+    try:
+        ds = EXPERIMENTS[name](**params)
+    except TypeError as err:
+        raise ValueError(f"config.parameters: {err}") from None
+    write_dataset(ds, args.output, config=cfg)
+    print(f"wrote {name} to {args.output}")
 
 
 def _print_table(ds, out):
@@ -40,6 +69,13 @@ def main(argv=None):
     from .scenes import Scene
     from .simulate import simulate
 
+    if args.command == "run":
+        try:
+            _run_experiment(args)
+        except (ValueError, OSError) as err:
+            print(f"noslipsim: error: {err}", file=sys.stderr)
+            return 2
+        return 0
     try:
         scene = Scene.from_yaml(args.scene)
         ds = simulate(scene, args.position, args.velocity, args.spin, max_collisions=args.max_collisions,

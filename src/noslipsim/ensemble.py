@@ -103,31 +103,33 @@ def _run_chunk(inputs, law, c, s, force, scale, starts, on, levels, max_collisio
     return rec, final
 
 
-def _scheduler_kwargs(scheduler):
-    if scheduler is None or scheduler in ("threads", "sync", "synchronous", "processes"):
-        return {"scheduler": scheduler or "threads"}
-    if isinstance(scheduler, str):  # a distributed scheduler address
-        from distributed import Client
-        return {"scheduler": Client(scheduler)}
-    return {"scheduler": scheduler}  # a distributed Client
-
-
 def _compute(tasks, scheduler, progress):
+    """Compute dask tasks on the chosen scheduler; a Client made here from an address is closed here."""
     import dask
 
-    kwargs = _scheduler_kwargs(scheduler)
     show = sys.stderr.isatty() if progress is None else bool(progress)
-    sched = kwargs["scheduler"]
-    if show and isinstance(sched, str):
-        from dask.diagnostics import ProgressBar
-        with ProgressBar(out=sys.stderr):
-            return dask.compute(*tasks, **kwargs)
-    if show and not isinstance(sched, str):
-        from distributed import progress as dprogress
-        futures = sched.compute(list(tasks))
+    if scheduler is None or scheduler in ("threads", "sync", "synchronous"):
+        if show:
+            from dask.diagnostics import ProgressBar
+            with ProgressBar(out=sys.stderr):
+                return dask.compute(*tasks, scheduler=scheduler or "threads")
+        return dask.compute(*tasks, scheduler=scheduler or "threads")
+    from distributed import Client, progress as dprogress
+
+    if isinstance(scheduler, str):
+        with Client(scheduler, set_as_default=False) as client:
+            return _on_client(client, tasks, show, dprogress)
+    if isinstance(scheduler, Client):
+        return _on_client(scheduler, tasks, show, dprogress)
+    raise ValueError(f"scheduler: expected None, 'threads', 'sync', 'numba', a distributed Client "
+                     f"or a scheduler address, got {scheduler!r}")
+
+
+def _on_client(client, tasks, show, dprogress):
+    futures = client.compute(list(tasks))
+    if show:
         dprogress(futures)
-        return sched.gather(futures)
-    return dask.compute(*tasks, **kwargs)
+    return client.gather(futures)
 
 
 # ---------------------------------------------------------------------------- public API
@@ -181,6 +183,9 @@ def simulate_many(scene: Scene, positions, velocities, spins=None, *, max_collis
         raise ValueError(f"scene: expected a noslipsim.Scene, got {type(scene).__name__}")
     if record not in RECORDS:
         raise ValueError(f"record: must be one of {RECORDS}, got {record!r}")
+    if chunk_size is not None and (isinstance(chunk_size, bool) or not isinstance(chunk_size, (int, np.integer))
+                                   or chunk_size < 1):
+        raise ValueError(f"chunk_size: must be a positive integer, got {chunk_size!r}")
     q, v, w, on = check_starts(scene, positions, velocities, spins, start_elements)
     n = len(q)
     max_collisions, max_time = check_limits(max_collisions, max_time)
@@ -219,10 +224,7 @@ def simulate_many(scene: Scene, positions, velocities, spins=None, *, max_collis
     else:
         import dask
 
-        size = chunk_size or max(1, math.ceil(n / (4 * (os.cpu_count() or 1))))
-        if int(size) != size or size < 1:
-            raise ValueError(f"chunk_size: must be a positive integer, got {chunk_size}")
-        size = int(size)
+        size = max(1, math.ceil(n / (4 * (os.cpu_count() or 1)))) if chunk_size is None else chunk_size
         run = dask.delayed(_run_chunk, pure=True)
         tasks = [run(*args, starts[i:i + size], on[i:i + size], levels[i:i + size], *tail, False)
                  for i in range(0, n, size)]

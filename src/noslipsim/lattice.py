@@ -44,15 +44,24 @@ def reaching_copies(elements, lattice):
 
 
 def cell_of(points, lattice):
-    """Integer cell indices ``(n1, n2)`` of points (nearest lattice site)."""
+    """Integer cell indices ``(n1, n2)`` of points (nearest lattice site).
+
+    Elementwise arithmetic (not a matrix product, whose rounding depends on the
+    batch shape), so a point gets the same cell alone or in an ensemble.
+    """
     _, B = lattice_matrix(lattice)
-    return np.rint(np.asarray(points, float) @ B.T).astype(np.int64)
+    p = np.asarray(points, float)
+    x, y = p[..., 0], p[..., 1]
+    return np.stack([np.rint(B[0, 0] * x + B[0, 1] * y), np.rint(B[1, 0] * x + B[1, 1] * y)],
+                    axis=-1).astype(np.int64)
 
 
 def cell_origin(cells, lattice):
-    """Centres ``n1 a1 + n2 a2`` of cells."""
+    """Centres ``n1 a1 + n2 a2`` of cells (elementwise, like :func:`cell_of`)."""
     A, _ = lattice_matrix(lattice)
-    return np.asarray(cells, float) @ A.T
+    c = np.asarray(cells, float)
+    n1, n2 = c[..., 0], c[..., 1]
+    return np.stack([n1 * A[0, 0] + n2 * A[0, 1], n1 * A[1, 0] + n2 * A[1, 1]], axis=-1)
 
 
 def unit_cell_polygon(lattice):

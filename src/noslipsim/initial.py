@@ -1,0 +1,111 @@
+"""Initial conditions from ``numpy.random.SeedSequence``: the same seed gives the same starts.
+
+- :func:`unit_velocities`: unit speed, direction uniform on the circle;
+- :func:`uniform_in_region`: positions uniform in a box, kept where inside the table;
+- :func:`boundary_states`: uniform on the boundary in the reduced phase space
+  (arclength uniform over the chosen elements; the post-collision unit vector
+  ``(w, v_t, v_n)`` uniform on the hemisphere ``S^2_+`` for no-slip, the exit
+  angle uniform in ``(-pi/2, pi/2)`` with ``w = 0`` for specular).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .elements import Arc, Circle, Segment
+from .scenes import Scene
+
+#: Rejection sampling gives up after this many rounds (each draws twice the remainder).
+MAX_ROUNDS = 200
+
+
+def rng_from(seed):
+    """A Generator from an int, a SeedSequence or a Generator."""
+    if isinstance(seed, np.random.Generator):
+        return seed
+    if isinstance(seed, np.random.SeedSequence):
+        return np.random.default_rng(seed)
+    return np.random.default_rng(np.random.SeedSequence(seed))
+
+
+def _count(n):
+    if isinstance(n, bool) or int(n) != n or n < 0:
+        raise ValueError(f"n: expected a non-negative integer, got {n!r}")
+    return int(n)
+
+
+def unit_velocities(n, seed=0):
+    """``(n, 2)`` unit velocities with directions uniform on the circle."""
+    ang = rng_from(seed).uniform(0.0, 2.0 * math.pi, _count(n))
+    return np.c_[np.cos(ang), np.sin(ang)]
+
+
+def uniform_in_region(scene: Scene, n, box, seed=0):
+    """``(n, 2)`` positions uniform in ``box = (x0, x1, y0, y1)`` and strictly inside the table."""
+    n = _count(n)
+    x0, x1, y0, y1 = map(float, box)
+    if not (x1 > x0 and y1 > y0):
+        raise ValueError(f"box: expected (x0, x1, y0, y1) with x1 > x0 and y1 > y0, got {box}")
+    rng = rng_from(seed)
+    out = np.empty((0, 2))
+    for _ in range(MAX_ROUNDS):
+        need = n - len(out)
+        if need <= 0:
+            break
+        pts = np.c_[rng.uniform(x0, x1, 2 * need + 8), rng.uniform(y0, y1, 2 * need + 8)]
+        out = np.vstack([out, pts[scene.contains(pts)]])
+    if len(out) < n:
+        raise ValueError(f"box: too little of {box} lies inside the table to draw {n} starts")
+    return out[:n]
+
+
+def _point_on(e, u):
+    """Point, outward normal and tangent at fraction ``u`` along a finite element."""
+    if isinstance(e, Segment):
+        p0, p1 = np.array(e.p0), np.array(e.p1)
+        pt = p0 + u[:, None] * (p1 - p0)
+        n_in = np.array(e.params()[2:4])
+        n_out = np.broadcast_to(-n_in, pt.shape)
+    else:
+        t0, t1 = (0.0, 2 * math.pi) if isinstance(e, Circle) else (e.theta0, e.theta1)
+        th = t0 + u * (t1 - t0)
+        radial = np.c_[np.cos(th), np.sin(th)]
+        pt = np.array(e.center) + e.radius * radial
+        n_out = -e.sigma * radial
+    return pt, n_out
+
+
+def boundary_states(scene: Scene, n, seed=0, elements=None):
+    """Starts on the boundary, uniform in the reduced phase space.
+
+    Returns a dict with ``positions``, ``velocities``, ``spins`` and
+    ``start_elements`` for :func:`noslipsim.simulate_many`.  Speeds are such
+    that ``|v|^2 + w^2 = 1``.  Only finite elements (segments, circles, arcs)
+    can be sampled; in a periodic scene the elements of cell 0 are used.
+    """
+    n = _count(n)
+    idx = list(range(len(scene.elements))) if elements is None else [int(i) for i in elements]
+    for i in idx:
+        if not 0 <= i < len(scene.elements) or not isinstance(scene.elements[i], (Segment, Circle, Arc)):
+            raise ValueError(f"elements: {i} is not a segment, circle or arc of the scene")
+    lengths = np.array([scene.elements[i].length() for i in idx])
+    rng = rng_from(seed)
+    pick = rng.choice(len(idx), size=n, p=lengths / lengths.sum())
+    u = rng.uniform(0.0, 1.0, n)
+    pos = np.empty((n, 2))
+    n_out = np.empty((n, 2))
+    for k, i in enumerate(idx):
+        sel = pick == k
+        pos[sel], n_out[sel] = _point_on(scene.elements[i], u[sel])
+    t = np.c_[-n_out[:, 1], n_out[:, 0]]
+    if scene.law == "no-slip":
+        z = rng.normal(size=(n, 3))
+        z /= np.linalg.norm(z, axis=1, keepdims=True)
+        w, vt, vn_in = z[:, 0], z[:, 1], np.abs(z[:, 2])
+    else:
+        ang = rng.uniform(-math.pi / 2, math.pi / 2, n)
+        w, vt, vn_in = np.zeros(n), np.sin(ang), np.cos(ang)
+    vel = vt[:, None] * t - vn_in[:, None] * n_out
+    return {"positions": pos, "velocities": vel, "spins": w,
+            "start_elements": np.array(idx, dtype=np.int64)[pick]}
