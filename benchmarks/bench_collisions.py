@@ -22,12 +22,13 @@ SCENES = {
 
 
 def kernel_rate(scene, q, v, n):
-    kinds, params, copies, A, B, lattice = scene.kernel_inputs()
+    inputs = scene.kernel_inputs()
+    kinds = inputs[0]
     c, s = scene.noslip_coefficients
     ax, ay = scene.force
     rec = np.zeros((0, layout.N_LOG))
     mask = np.zeros(len(kinds), dtype=np.bool_)
-    args = (kinds, params, copies, A, B, lattice, scene.law_code, c, s, ax, ay, q[0], q[1], v[0], v[1], 0.1)
+    args = (*inputs, scene.law_code, c, s, ax, ay, q[0], q[1], v[0], v[1], 0.1)
     run_orbit(*args, 10, math.inf, -math.inf, scene.scale, layout.RECORD_NONE, rec, mask)  # compile
     t0 = time.perf_counter()
     done = run_orbit(*args, n, math.inf, -math.inf, scene.scale, layout.RECORD_NONE, rec, mask)[0]

@@ -93,12 +93,12 @@ def check_starts(scene: Scene, positions, velocities, spins, start_elements=None
 # ---------------------------------------------------------------------------- one chunk
 def _run_chunk(inputs, law, c, s, force, scale, starts, on, levels, max_collisions, max_time, mode,
                n_rec, n_cols, mask, parallel):
-    kinds, params, copies, A, B, lattice = inputs
+    kinds, params, copies, A, B, lattice, jstart, jpts = inputs
     n = len(starts)
     rec = np.full((n, n_rec, n_cols), np.nan)
     final = np.zeros((n, N_FINAL))
     kernel = run_batch if parallel else run_batch_serial
-    kernel(kinds, params, copies, A, B, lattice, law, c, s, force[0], force[1], starts, on,
+    kernel(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, force[0], force[1], starts, on,
            max_collisions, max_time, levels, scale, mode, rec, mask, final)
     return rec, final
 

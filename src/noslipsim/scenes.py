@@ -161,15 +161,28 @@ class Scene:
         return kinds, params
 
     def kernel_inputs(self):
-        """Everything the event loop needs about the table: ``(kinds, params, copies, A, B, lattice)``."""
+        """Everything the event loop needs about the table.
+
+        ``(kinds, params, copies, A, B, lattice, jstart, jpts)``: elements, the
+        copies that reach a cell, lattice matrix and inverse, the periodic flag
+        and the junction points (see :mod:`noslipsim.junctions`).
+        """
+        cached = self.__dict__.get("_kernel_inputs")
+        if cached is not None:
+            return cached
+        from .junctions import junction_arrays
+
         kinds, params = self.arrays()
         if self.lattice is None:
             copies = np.zeros((len(kinds), 3), dtype=np.int64)
             copies[:, 0] = np.arange(len(kinds))
-            zero = np.zeros((2, 2))
-            return kinds, params, copies, zero, zero, False
-        A, B = lattice_matrix(self.lattice)
-        return kinds, params, reaching_copies(self.elements, self.lattice), A, B, True
+            A = B = np.zeros((2, 2))
+        else:
+            A, B = lattice_matrix(self.lattice)
+            copies = reaching_copies(self.elements, self.lattice)
+        out = (kinds, params, copies, A, B, self.lattice is not None, *junction_arrays(self))
+        object.__setattr__(self, "_kernel_inputs", out)
+        return out
 
     def cell_scene(self, cell=(0, 0)):
         """The plain scene of every element copy that reaches ``cell`` (for inside tests)."""

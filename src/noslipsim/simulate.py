@@ -112,14 +112,14 @@ def start_cell(scene: Scene, q):
 
 def run_one(scene: Scene, q, v, w, max_collisions, max_time, level, mode, rec, mask=None, inputs=None):
     """Run the kernel for one validated start; positions and cells come back absolute."""
-    kinds, params, copies, A, B, lattice = scene.kernel_inputs() if inputs is None else inputs
+    kinds, params, copies, A, B, lattice, jstart, jpts = scene.kernel_inputs() if inputs is None else inputs
     if mask is None:
         mask = np.zeros(len(kinds), dtype=np.bool_)
     c, s = scene.noslip_coefficients
     ax, ay = scene.force
     cell, origin, r = start_cell(scene, q)
     n, stop, n_corner, n_rec, t, x, y, vx, vy, w_f, m1, m2 = run_orbit(
-        kinds, params, copies, A, B, lattice, scene.law_code, c, s, ax, ay, r[0], r[1], v[0], v[1], w,
+        kinds, params, copies, A, B, lattice, jstart, jpts, scene.law_code, c, s, ax, ay, r[0], r[1], v[0], v[1], w,
         max_collisions, max_time, level - origin[1], scene.scale, mode, rec, mask)
     if mode == layout.RECORD_LOG and lattice:
         rec[:n_rec, layout.LOG_X] += origin[0]

@@ -17,10 +17,10 @@ N_FINAL = 12
 
 
 @jit
-def _one(i, kinds, params, copies, A, B, lattice, law, c, s, ax, ay, starts, start_elements,
+def _one(i, kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, starts, start_elements,
          max_collisions, max_time, stop_below, scale, mode, rec, mask, final):
     n, stop, n_corner, n_rec, t, x, y, vx, vy, w, m1, m2 = run_orbit(
-        kinds, params, copies, A, B, lattice, law, c, s, ax, ay,
+        kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay,
         starts[i, 0], starts[i, 1], starts[i, 2], starts[i, 3], starts[i, 4],
         max_collisions, max_time, stop_below[i], scale, mode, rec[i], mask, start_elements[i])
     row = final[i]
@@ -39,16 +39,16 @@ def _one(i, kinds, params, copies, A, B, lattice, law, c, s, ax, ay, starts, sta
 
 
 @jit(parallel=True)
-def run_batch(kinds, params, copies, A, B, lattice, law, c, s, ax, ay, starts, start_elements,
+def run_batch(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, starts, start_elements,
               max_collisions, max_time, stop_below, scale, mode, rec, mask, final):
     """Run ``starts.shape[0]`` orbits in parallel; see :func:`run_batch_serial` for the arguments."""
     for i in prange(starts.shape[0]):
-        _one(i, kinds, params, copies, A, B, lattice, law, c, s, ax, ay, starts, start_elements,
+        _one(i, kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, starts, start_elements,
              max_collisions, max_time, stop_below, scale, mode, rec, mask, final)
 
 
 @jit
-def run_batch_serial(kinds, params, copies, A, B, lattice, law, c, s, ax, ay, starts, start_elements,
+def run_batch_serial(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, starts, start_elements,
                      max_collisions, max_time, stop_below, scale, mode, rec, mask, final):
     """Run orbits one after another.
 
@@ -59,5 +59,5 @@ def run_batch_serial(kinds, params, copies, A, B, lattice, law, c, s, ax, ay, st
     (columns ``F_*``).  Other arguments as in :func:`loop.run_orbit`.
     """
     for i in range(starts.shape[0]):
-        _one(i, kinds, params, copies, A, B, lattice, law, c, s, ax, ay, starts, start_elements,
+        _one(i, kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, starts, start_elements,
              max_collisions, max_time, stop_below, scale, mode, rec, mask, final)

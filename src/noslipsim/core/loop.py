@@ -35,7 +35,7 @@ from .layout import (
     STOP_MAX_COLLISIONS, STOP_MAX_TIME,
 )
 from .roots import quadratic_exit
-from .tolerances import CONTACT_TOL, EXTENT_TOL, MAX_CELLS_PER_FLIGHT, MAX_CORNER_BOUNCES
+from .tolerances import CONTACT_TOL, EXTENT_TOL, JUNCTION_GATE, MAX_CELLS_PER_FLIGHT, MAX_CORNER_BOUNCES
 
 INF = math.inf
 
@@ -78,6 +78,15 @@ def _record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w, vx_in, v
 
 
 @jit
+def _near_junction(jstart, jpts, e, x, y, gate):
+    """True if ``(x, y)`` (in element ``e``'s frame) lies within ``gate`` of one of its junctions."""
+    for k in range(jstart[e], jstart[e + 1]):
+        if abs(x - jpts[k, 0]) <= gate and abs(y - jpts[k, 1]) <= gate:
+            return True
+    return False
+
+
+@jit
 def _contact(kinds, params, copies, A, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2, tol):
     """First element copy (other than the current one) touched here and left through, or ``(-1, 0, 0)``."""
     for k in range(copies.shape[0]):
@@ -94,7 +103,7 @@ def _contact(kinds, params, copies, A, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_
 
 
 @jit
-def run_orbit(kinds, params, copies, A, B, lattice, law, c, s, ax, ay, x, y, vx, vy, w,
+def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, x, y, vx, vy, w,
               max_collisions, max_time, stop_below, scale, mode, rec, mask, start_element=-1):
     """Run one orbit from a state strictly inside the table.
 
@@ -109,6 +118,10 @@ def run_orbit(kinds, params, copies, A, B, lattice, law, c, s, ax, ay, x, y, vx,
         Lattice vectors as columns and the inverse matrix (zeros for plain scenes).
     lattice : bool
         Walk cells (periodic scene) or not.
+    jstart, jpts : arrays
+        Junction points of element ``e`` (in its own frame) are
+        ``jpts[jstart[e]:jstart[e + 1]]``; the corner pass runs only for hits
+        near one (:mod:`noslipsim.junctions`).
     law : int
         ``SPECULAR`` or ``NOSLIP``; ``c, s`` are the no-slip coefficients.
     ax, ay : float
@@ -224,7 +237,8 @@ def run_orbit(kinds, params, copies, A, B, lattice, law, c, s, ax, ay, x, y, vx,
         cur_o2 = o2
         # corner rule: other element copies touched here that the particle would leave through
         bounces = 0
-        while n < max_collisions:
+        near = _near_junction(jstart, jpts, e, x - sx, y - sy, JUNCTION_GATE * length)
+        while near and n < max_collisions:
             j, o1, o2 = _contact(kinds, params, copies, A, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2,
                                  CONTACT_TOL * length)
             if j < 0:

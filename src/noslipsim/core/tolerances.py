@@ -27,3 +27,8 @@ MAX_CORNER_BOUNCES = 64
 #: Cells one flight may cross in a periodic scene before it counts as an
 #: endless free flight (an escape along a corridor).
 MAX_CELLS_PER_FLIGHT = 10_000_000
+
+#: The corner pass runs only for hits within ``JUNCTION_GATE * scale`` of a
+#: point where two elements meet (see :mod:`noslipsim.junctions` for why this
+#: radius is safe).
+JUNCTION_GATE = 1e-5

@@ -1,0 +1,115 @@
+"""Junctions: the points where two boundary elements meet (vertices, crossings, tangencies).
+
+The corner rule can only fire at a hit within ``CONTACT_TOL`` of a second
+element, which happens only near such a point.  The kernel therefore runs
+the corner pass only for hits within ``JUNCTION_GATE * scale`` of a junction
+of the element hit: a crossing at angle ``theta`` brings two elements within
+``CONTACT_TOL`` of each other over ``CONTACT_TOL / sin(theta)``, a tangency
+over ``sqrt(2 r CONTACT_TOL)``, both far below the gate for any table a scene
+file can describe (angles above 1e-5 rad, radii below 1e8 scales).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .core.tolerances import JUNCTION_GATE  # noqa: F401  (documented here, used by the kernel)
+from .elements import Arc, Circle, Line, Segment
+
+#: Relative tolerance for "on the element" and for near-tangencies.
+_ON_TOL = 1e-9
+
+
+def _straight(e):
+    if isinstance(e, Line):
+        n = np.array(e.normal)
+        return np.array(e.point, float), np.array([-n[1], n[0]])
+    p0, p1 = np.array(e.p0, float), np.array(e.p1, float)
+    return p0, p1 - p0
+
+
+def _on(e, pts, tol):
+    if not len(pts):
+        return pts
+    pts = np.asarray(pts, float).reshape(-1, 2)
+    if isinstance(e, (Line, Circle)):
+        d = np.abs(e.side_distance(pts))
+    else:
+        d = e.distance(pts)
+    return pts[d <= tol]
+
+
+def _meet(a, b, tol):
+    """Points where elements ``a`` and ``b`` meet (within ``tol``)."""
+    if isinstance(a, (Circle, Arc)) and isinstance(b, (Line, Segment)):
+        a, b = b, a
+    pts = []
+    if isinstance(a, (Line, Segment)) and isinstance(b, (Line, Segment)):
+        p, d = _straight(a)
+        q, e = _straight(b)
+        cross = d[0] * e[1] - d[1] * e[0]
+        if abs(cross) > 1e-14 * np.linalg.norm(d) * np.linalg.norm(e):
+            s = ((q - p)[0] * e[1] - (q - p)[1] * e[0]) / cross
+            pts.append(p + s * d)
+        else:  # parallel: ends of one lying on the other
+            for el in (a, b):
+                if isinstance(el, Segment):
+                    pts += [el.p0, el.p1]
+    elif isinstance(a, (Line, Segment)):
+        p, d = _straight(a)
+        c, r = np.array(b.center, float), b.radius
+        u = d / np.linalg.norm(d)
+        s0 = (c - p) @ u
+        foot = p + s0 * u
+        h = np.linalg.norm(c - foot)
+        if h <= r + tol:
+            half = math.sqrt(max(r * r - h * h, 0.0))
+            pts += [foot - half * u, foot + half * u]
+    else:
+        c1, r1 = np.array(a.center, float), a.radius
+        c2, r2 = np.array(b.center, float), b.radius
+        dvec = c2 - c1
+        dist = np.linalg.norm(dvec)
+        if dist > 0 and abs(r1 - r2) - tol <= dist <= r1 + r2 + tol:
+            along = (dist ** 2 + r1 ** 2 - r2 ** 2) / (2 * dist)
+            half = math.sqrt(max(r1 ** 2 - along ** 2, 0.0))
+            u = dvec / dist
+            base = c1 + along * u
+            perp = np.array([-u[1], u[0]])
+            pts += [base - half * perp, base + half * perp]
+    pts = np.array(pts, float).reshape(-1, 2)
+    return _on(b, _on(a, pts, tol), tol)
+
+
+def junction_arrays(scene):
+    """Per-element junction points in each element's own frame, as kernel arrays.
+
+    Returns ``(start, points)``: the junctions of element ``e`` are
+    ``points[start[e]:start[e + 1]]``.  In a periodic scene, copies of the
+    elements that reach cell 0 are paired, and each junction is stored in the
+    frame of the copy's element (shift removed).
+    """
+    if scene.lattice is None:
+        items = [(i, e, np.zeros(2)) for i, e in enumerate(scene.elements)]
+    else:
+        from .lattice import lattice_matrix, reaching_copies
+        A, _ = lattice_matrix(scene.lattice)
+        items = [(int(i), scene.elements[i].shifted(*(A @ [o1, o2])), A @ [o1, o2])
+                 for i, o1, o2 in reaching_copies(scene.elements, scene.lattice)]
+    tol = _ON_TOL * max(scene.scale, 1e-300)
+    per = [[] for _ in scene.elements]
+    for a in range(len(items)):
+        for b in range(a + 1, len(items)):
+            ia, ea, sa = items[a]
+            ib, eb, sb = items[b]
+            for p in _meet(ea, eb, tol):
+                per[ia].append(p - sa)
+                per[ib].append(p - sb)
+    start = np.zeros(len(scene.elements) + 1, dtype=np.int64)
+    pts = []
+    for i, lst in enumerate(per):
+        uniq = np.unique(np.round(np.array(lst, float).reshape(-1, 2), 12), axis=0) if lst else np.zeros((0, 2))
+        pts.append(uniq)
+        start[i + 1] = start[i] + len(uniq)
+    return start, (np.vstack(pts) if pts else np.zeros((0, 2)))
