@@ -280,9 +280,11 @@ def _exit_roots(ctx, coeffs, deflate, floor):
     """Sorted roots ``t > 0`` where the polynomial changes from + to - (crossing out of the table)."""
     if deflate:  # p(t) = t h(t) with p(0) = 0 exactly: drop the root t = 0
         coeffs = [ctx.zero] + list(coeffs[1:])
-        roots = _real_roots(ctx, coeffs[1:])
-    else:
-        roots = _real_roots(ctx, coeffs)
+    searched = coeffs[1:] if deflate else coeffs
+    signs = [c > 0 for c in searched if c != 0]
+    if all(sg == signs[0] for sg in signs):  # Descartes: no sign change, no positive root
+        return []
+    roots = _real_roots(ctx, searched)
     deriv = [k * c for k, c in enumerate(coeffs)][1:]
     out = []
     for t in roots:

@@ -15,6 +15,7 @@ import math
 from .geometry import (
     crossing_coefficients,
     distance_rate,
+    element_box,
     extent_position,
     signed_distance,
 )
@@ -88,6 +89,23 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_forc
     xi, yi = flight_position(x, y, vx, vy, ax, ay, t_in)
     vxi = vx + ax * t_in
     vyi = vy + ay * t_in
+    # a bounded window: the arc lies in the hull of its Bezier control points, so a
+    # copy whose box misses the hull's box cannot be hit in it
+    bounded = hi < INF
+    bx0 = -INF
+    by0 = -INF
+    bx1 = INF
+    by1 = INF
+    if bounded:
+        span = hi - t_in
+        x2, y2 = flight_position(xi, yi, vxi, vyi, ax, ay, span)
+        x1 = xi + 0.5 * span * vxi
+        y1 = yi + 0.5 * span * vyi
+        margin = 1e-9 * (abs(xi) + abs(yi) + abs(x2) + abs(y2) + abs(x1) + abs(y1)) + extent_tol
+        bx0 = min(xi, x1, x2) - margin
+        by0 = min(yi, y1, y2) - margin
+        bx1 = max(xi, x1, x2) + margin
+        by1 = max(yi, y1, y2) + margin
     best_t = hi
     best_e = -1
     best_o1 = 0
@@ -102,6 +120,10 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_forc
             t = element_hit_time(kinds[e], params[e], x - sx, y - sy, vx, vy, ax, ay, has_force,
                                  True, best_t, extent_tol)
         else:
+            if bounded:
+                ex0, ey0, ex1, ey1 = element_box(kinds[e], params[e])
+                if ex0 + sx > bx1 or ex1 + sx < bx0 or ey0 + sy > by1 or ey1 + sy < by0:
+                    continue
             t = t_in + element_hit_time(kinds[e], params[e], xi - sx, yi - sy, vxi, vyi, ax, ay,
                                         has_force, False, best_t - t_in, extent_tol)
         if t < best_t or (best_e < 0 and t == best_t and t < INF):

@@ -101,6 +101,18 @@ def extent_position(kind, p, x, y, tol):
 
 
 @jit
+def element_box(kind, p):
+    """Axis-aligned bounding box ``(x0, y0, x1, y1)`` of an element (infinite for lines)."""
+    if kind == LINE:
+        return -math.inf, -math.inf, math.inf, math.inf
+    if kind == SEGMENT:
+        x1 = p[0] + p[6] * p[4]
+        y1 = p[1] + p[6] * p[5]
+        return min(p[0], x1), min(p[1], y1), max(p[0], x1), max(p[1], y1)
+    return p[0] - p[2], p[1] - p[2], p[0] + p[2], p[1] + p[2]
+
+
+@jit
 def place_on_element(kind, p, x, y):
     """Project ``(x, y)`` onto the element: returns ``(x', y', nx, ny)`` with ``n`` the outward unit normal.
 
