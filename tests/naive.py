@@ -32,11 +32,6 @@ DPS = 50
 #: Roots are bisected until their bracket is below ``2**-REL_BITS`` relative.
 REL_BITS = 140
 
-__all__ = [
-    "naive_exit_roots", "naive_real_roots", "naive_crossing_poly", "naive_flight_exits",
-    "naive_element_hit_time", "poly_value", "poly_derivative", "mp",
-]
-
 
 def mp(x):
     """A Fraction (or float/int) as an mpmath number at ``DPS`` digits."""
@@ -118,15 +113,22 @@ def _integer(c):
     return [v // g for v in ints] if g > 1 else ints
 
 
-def _sign_at(ci, x):
-    """Sign of the integer polynomial ``ci`` at the rational ``x = N/D`` (exact)."""
-    n, d = x.numerator, x.denominator
+def _sign_at(ci, n, k):
+    """Sign of the integer polynomial ``ci`` at the dyadic rational ``n / 2^k`` (exact)."""
     acc = ci[-1]
-    dp = 1
+    shift = 0
     for v in reversed(ci[:-1]):
-        dp *= d
-        acc = acc * n + v * dp
+        shift += k
+        acc = acc * n + (v << shift)
     return (acc > 0) - (acc < 0)
+
+
+def _dyadic(x):
+    """``(n, k)`` with ``x = n / 2^k`` for a Fraction whose denominator is a power of two."""
+    d = x.denominator
+    k = d.bit_length() - 1
+    assert d == 1 << k, x
+    return x.numerator, k
 
 
 def _sturm(q):
@@ -139,16 +141,17 @@ def _sturm(q):
     return [_integer(c) for c in chain if c]
 
 
-def _variations(chain, x):
+def _variations(chain, n, k):
+    """Sign changes of the Sturm chain at ``n / 2^k`` (zeros skipped)."""
     prev = 0
-    n = 0
+    count = 0
     for c in chain:
-        s = _sign_at(c, x)
+        s = _sign_at(c, n, k)
         if s:
             if prev and s != prev:
-                n += 1
+                count += 1
             prev = s
-    return n
+    return count
 
 
 def _pow2_above(x):
@@ -203,28 +206,43 @@ def naive_real_roots(coeffs, hi=math.inf):
         top = min(top, Fraction(float(hi)))
     q = _squarefree(c)
     chain = _sturm(q)
-    lo = Fraction(0)
+    qi = chain[0]
+    # brackets (A, B] / 2^k: every endpoint is dyadic (floats and powers of two are)
+    B, k = _dyadic(top)
     out = []
-    stack = [(lo, top, _variations(chain, lo), _variations(chain, top))]
+    stack = [(0, B, k, _variations(chain, 0, k), _variations(chain, B, k))]
     while stack:
-        a, b, va, vb = stack.pop()
+        A, B, k, va, vb = stack.pop()
         n = va - vb
         if n == 0:
             continue
+        M, A, B, k = A + B, 2 * A, 2 * B, k + 1
         if n > 1:
-            m = (a + b) / 2
-            vm = _variations(chain, m)
-            stack.append((a, m, va, vm))
-            stack.append((m, b, vm, vb))
+            vm = _variations(chain, M, k)
+            stack.append((A, M, k, va, vm))
+            stack.append((M, B, k, vm, vb))
             continue
-        # exactly one root in (a, b]: bisect until a > 0 and (b - a) < 2^-REL_BITS a
-        while a == 0 or (b - a) * (1 << REL_BITS) > a:
-            m = (a + b) / 2
-            vm = _variations(chain, m)
-            if va - vm == 1:
-                b, vb = m, vm
+        # exactly one root in (A, B]: bisect until A > 0 and (B - A) < 2^-REL_BITS A.  While A is a
+        # root itself (t = 0, excluded) the chain decides; then the sign of q does.
+        sa = _sign_at(qi, A, k)
+        while True:
+            if A > 0 and (B - A) << REL_BITS <= A:
+                break
+            if sa == 0:
+                vm = _variations(chain, M, k)
+                if va - vm == 1:
+                    B = M
+                else:
+                    A, va = M, vm
+                    sa = _sign_at(qi, A, k)
             else:
-                a, va = m, vm
+                sm = _sign_at(qi, M, k)
+                if sm == sa:
+                    A = M
+                else:
+                    B = M          # a sign change, or q(M) == 0: the root is in (A, M]
+            M, A, B, k = A + B, 2 * A, 2 * B, k + 1
+        a, b = Fraction(A, 1 << k), Fraction(B, 1 << k)
         kind = _classify(c, a, b)
         root = b if poly_value(q, b) == 0 else (a + b) / 2
         out.append((mp(root), kind, (a, b)))
@@ -370,7 +388,6 @@ def naive_roots_between(coeffs, lo, hi):
         return []
     # shifted polynomial: coefficients of p(lo + s) in s
     shifted = [Fraction(0)] * len(c)
-    binom_row = [Fraction(1)]
     for n, cn in enumerate(c):  # add cn (lo + s)^n
         for k in range(n + 1):
             shifted[k] += cn * math.comb(n, k) * lo ** (n - k)
@@ -378,7 +395,6 @@ def naive_roots_between(coeffs, lo, hi):
     if hi > lo:
         with mpmath.workdps(DPS):
             out += [mp(lo) + r for r, _, _ in naive_real_roots(shifted, hi - lo)]
-    del binom_row
     return out
 
 
@@ -420,3 +436,79 @@ def backward_residual(coeffs, t, mags):
         val = abs(mp(poly_value(c, tf)))
         scale = EPS * sum(mpmath.mpf(float(m)) * abs(mp(tf)) ** i for i, m in enumerate(mags))
         return val / scale if scale > 0 else (mpmath.inf if val else mpmath.mpf(0))
+
+
+def naive_all_real_roots(coeffs):
+    """Every distinct real root on the whole line, sorted, 50 digits (``p(-t)`` gives the negative ones)."""
+    c = _exact(coeffs)
+    if len(c) <= 1:
+        return []
+    neg = [-r for r, _, _ in naive_real_roots([ci if i % 2 == 0 else -ci for i, ci in enumerate(c)])]
+    zero = [mp(0)] if c[0] == 0 else []
+    pos = [r for r, _, _ in naive_real_roots(c)]
+    return sorted(neg) + zero + pos
+
+
+def crossing_magnitudes(element, q, v, a):
+    """Sizes ``m_i >= |c_i|`` of the terms the float crossing coefficients are computed from,
+    in the normalisation of :func:`naive_crossing_poly` (for :func:`predicted_root_error`).
+
+    A float kernel computing ``c_i`` makes an error of a few ``eps m_i``.  The first operation on
+    the inputs, a difference like ``x - c_x``, is correctly rounded (its error is relative to the
+    difference), so sizes are built from the differences: for a circle ``c0 = |q - c|^2 - r^2``
+    is computed from terms of size ``|q - c|^2 + r^2``.
+    """
+    (vx, vy), (ax, ay) = ([abs(float(u)) for u in w] for w in (v, a))
+    x, y = (float(u) for u in q)
+    name = _type(element)
+    if name in ("Line", "Segment"):
+        if name == "Line":
+            (px, py), (nx, ny) = element.point, element.normal
+        else:
+            (px, py), (x1, y1) = element.p0, element.p1
+            nx, ny = y1 - py, x1 - px          # |normal| * L, components up to sign and order
+        nx, ny = abs(nx), abs(ny)
+        dx, dy = abs(x - px), abs(y - py)
+        return [dx * nx + dy * ny, vx * nx + vy * ny, 0.5 * (ax * nx + ay * ny), 0.0, 0.0]
+    r = element.radius
+    DX, DY = abs(x - element.center[0]), abs(y - element.center[1])
+    return [DX * DX + DY * DY + r * r, 2.0 * (DX * vx + DY * vy),
+            vx * vx + vy * vy + DX * ax + DY * ay, vx * ax + vy * ay, 0.25 * (ax * ax + ay * ay)]
+
+
+def root_clusters(coeffs, roots, mags, k_eval, c_pred, well, rel_tol, sep):
+    """Group real roots (from :func:`naive_real_roots`) that a float method cannot tell apart.
+
+    Each root gets an allowed error ``c_pred * predicted_root_error + 4 eps t`` (capped at
+    ``rel_tol * t`` when the prediction is below ``well * t``: then it is "well conditioned").
+    Neighbours closer than ``max(sep * t, 2 (allowed + allowed'))`` share a cluster.  A cluster
+    has a window ``[lo, hi]`` (its roots +- their allowed errors) and the sign of the polynomial
+    just before (``left``) and after (``right``) it: ``left > 0 > right`` means the flight
+    certainly leaves there, however the roots inside are resolved.
+    """
+    c = _exact(coeffs)
+    info = []
+    for r, kind, (a, _) in roots:
+        pred = predicted_root_error(c, r, mags, k_eval)
+        with mpmath.workdps(DPS):
+            allowed = c_pred * pred + 4 * EPS * r
+            is_well = pred <= well * r
+            if is_well:
+                allowed = min(allowed, rel_tol * r)
+        pa = poly_value(c, a)
+        left = {"exit": 1, "entry": -1}.get(kind, (pa > 0) - (pa < 0))
+        right = {"exit": -1, "entry": 1}.get(kind, left)
+        info.append({"t": r, "kind": kind, "allowed": allowed, "well": is_well,
+                     "left": left, "right": right})
+    clusters = []
+    with mpmath.workdps(DPS):
+        for x in info:
+            if clusters:
+                y = clusters[-1][-1]
+                if x["t"] - y["t"] <= max(sep * x["t"], 2 * (x["allowed"] + y["allowed"])):
+                    clusters[-1].append(x)
+                    continue
+            clusters.append([x])
+        return [{"roots": cl, "lo": min(x["t"] - x["allowed"] for x in cl),
+                 "hi": max(x["t"] + x["allowed"] for x in cl),
+                 "left": cl[0]["left"], "right": cl[-1]["right"]} for cl in clusters]

@@ -123,11 +123,20 @@ def quadratic_exit(c0, c1, c2, hi):
 
 @jit
 def _exits_on_pieces(c0, c1, c2, c3, c4, k1, k2, k3, hi):
-    """Up to two exit roots of ``p`` in ``(0, hi]`` given its sorted critical points ``k1..k3`` (inf padded)."""
+    """Up to two exit roots of ``p`` in ``(0, hi]`` given its sorted critical points ``k1..k3`` (inf padded).
+
+    ``p`` is monotone between consecutive break points.  A piece with
+    ``p(a) > 0 > p(b)`` holds one exit, polished there.  When ``p`` rounds to
+    exactly zero at a break point, the sign before the zero (the last nonzero
+    value) decides: ``+, 0, -`` is an exit at that point (an osculating,
+    triple-root crossing), ``+, 0, +`` a tangency.  An exit exactly at ``hi``
+    counts when ``p`` decreases there.
+    """
     e1 = INF
     e2 = INF
     a = 0.0
     fa = c0
+    before = c0  # last nonzero value at or before a
     for i in range(4):
         if i == 0:
             b = k1
@@ -142,16 +151,27 @@ def _exits_on_pieces(c0, c1, c2, c3, c4, k1, k2, k3, hi):
         if b > hi:
             b = hi
         fb = horner(c0, c1, c2, c3, c4, b)
+        r = INF
         if fa > 0.0 and fb < 0.0:
             r = polish(c0, c1, c2, c3, c4, a, b, fa)
+        elif fa == 0.0 and a > 0.0 and before > 0.0 and fb < 0.0:
+            r = a
+        if r != INF:
             if e1 == INF:
                 e1 = r
             else:
                 e2 = r
+        if fa != 0.0:
+            before = fa
         a = b
         fa = fb
         if a >= hi:
             break
+    if fa == 0.0 and a == hi and a > 0.0 and before > 0.0 and horner_prime(c1, c2, c3, c4, a) <= 0.0:
+        if e1 == INF:
+            e1 = a
+        elif e2 == INF and e1 != a:
+            e2 = a
     return e1, e2
 
 
