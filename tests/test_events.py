@@ -34,7 +34,7 @@ from noslipsim import Arc, Circle, Line, Scene, Segment
 from noslipsim.core import events, roots
 from noslipsim.core.events import element_hit_time, exit_roots, hit_in_cell, leaves_through_contact
 from noslipsim.core.geometry import place_on_element
-from noslipsim.core.layout import ARC, CIRCLE, LINE, SEGMENT
+from noslipsim.core.layout import ARC, CIRCLE, END_START, LINE, SEGMENT
 from noslipsim.core.tolerances import CONTACT_TOL, EXTENT_TOL
 
 import naive
@@ -82,17 +82,24 @@ def row(element):
     return int(kinds[0]), params[0]
 
 
+def band_factor(element):
+    """The end-band factor of a free-standing element (both ends free: NONCONVEX_END_FACTOR)."""
+    kind, p = row(element)
+    return float(p[END_START]) if kind in (SEGMENT, ARC) else 1.0
+
+
 def tol_for(element, q):
-    """The extent tolerance the event loop uses at position ``q`` (EXTENT_TOL times the length scale)."""
-    return EXTENT_TOL * max(element.size(), abs(q[0]), abs(q[1]))
+    """The band beyond a free end at position ``q``: EXTENT_TOL times the length scale times the end factor."""
+    return EXTENT_TOL * max(element.size(), abs(q[0]), abs(q[1])) * band_factor(element)
 
 
 def kernel_hit(element, q, v, a, deflate=False, hi=INF, tol=None):
+    """The kernel's hit time, with ``tol`` the effective band (the kernel scales its tolerance by the end factor)."""
     kind, p = row(element)
     tol = tol_for(element, q) if tol is None else tol
     has_force = a[0] != 0.0 or a[1] != 0.0
     return element_hit_time(kind, p, float(q[0]), float(q[1]), float(v[0]), float(v[1]),
-                            float(a[0]), float(a[1]), has_force, deflate, hi, tol)
+                            float(a[0]), float(a[1]), has_force, deflate, hi, tol / band_factor(element))
 
 
 def _describe(element, q, v, a, deflate, hi, tol):
@@ -707,7 +714,7 @@ def test_hits_at_arc_ends(end, side):
             th0 = rng.uniform(-math.pi, 2 * math.pi)
             th1 = th0 + rng.uniform(0.3, 1.9 * math.pi)
             e = Arc(center=c, radius=L, theta0=th0, theta1=th1, side=side)
-            tol = EXTENT_TOL * max(e.size(), abs(c[0]) + 3 * L, abs(c[1]) + 3 * L)
+            tol = EXTENT_TOL * max(e.size(), abs(c[0]) + 3 * L, abs(c[1]) + 3 * L) * band_factor(e)
             delta = _offset(off, tol, L) / L     # angle beyond the end
             th = th0 - delta if end == 0 else th1 + delta
             H = (c[0] + L * math.cos(th), c[1] + L * math.sin(th))
@@ -787,11 +794,13 @@ def test_corner_contacts_never_leak(force):
             results.append(compare_hit(e, (x, y), (vx, vy), a, False, INF, tag="corner-other"))
             if not at_vertex or (e.p0 != V0 and e.p1 != V0):
                 continue
-            k, prow = row(e)
+            # the polygon's own row: this end is a convex junction there, not a free end
+            k, prow = int(kinds[other]), params[other]
             rate = vx * prow[2] + vy * prow[3]
             if rate >= 0.0:
                 continue     # moving into the table through the other side: nothing to catch
-            t_other = kernel_hit(e, (x, y), (vx, vy), a)
+            t_other = element_hit_time(k, prow, x, y, vx, vy, a[0], a[1], has_force, False, INF,
+                                       EXTENT_TOL * scale)
             contact = leaves_through_contact(k, prow, x, y, vx, vy, a[0], a[1], CONTACT_TOL * scale)
             tiny = t_other <= 1e-9 * L / V
             if not (tiny or contact):

@@ -113,3 +113,70 @@ def junction_arrays(scene):
         pts.append(uniq)
         start[i + 1] = start[i] + len(uniq)
     return start, (np.vstack(pts) if pts else np.zeros((0, 2)))
+
+
+def _end_frames(e):
+    """For each end of a segment or arc: (point, unit direction into the piece, inward unit normal)."""
+    if isinstance(e, Segment):
+        p0, p1 = np.array(e.p0, float), np.array(e.p1, float)
+        d = (p1 - p0) / np.linalg.norm(p1 - p0)
+        n_in = np.array(e.params()[2:4])
+        return [(p0, d, n_in), (p1, -d, n_in)]
+    out = []
+    for ang, sgn in ((e.theta0, 1.0), (e.theta1, -1.0)):
+        radial = np.array([math.cos(ang), math.sin(ang)])
+        pt = np.array(e.center, float) + e.radius * radial
+        out.append((pt, sgn * np.array([-radial[1], radial[0]]), e.sigma * radial))
+    return out
+
+
+def _frame_at(f, pt, tol):
+    """``(direction into f, inward normal)`` if ``pt`` is an end of segment/arc ``f``, else None."""
+    if not isinstance(f, (Segment, Arc)):
+        return None
+    for q, d, n in _end_frames(f):
+        if np.linalg.norm(q - pt) <= tol:
+            return d, n
+    return None
+
+
+def end_factors(scene):
+    """Band factor of each end of each segment and arc: ``(n_elements, 2)``.
+
+    1 where the end is a convex junction (the table lies inside the angle the
+    two pieces make, so leaving either half plane leaves the table), else
+    ``NONCONVEX_END_FACTOR``: a reflex junction (the table is locally the union
+    of the half planes) or a free end.  A junction with a line, a circle or
+    the interior of another piece counts as convex (the safe choice).
+    """
+    from .core.tolerances import NONCONVEX_END_FACTOR
+
+    if scene.lattice is None:
+        others = list(scene.elements)
+    else:
+        from .lattice import lattice_matrix, reaching_copies
+        A, _ = lattice_matrix(scene.lattice)
+        others = [scene.elements[i].shifted(*(A @ [o1, o2])) for i, o1, o2 in
+                  reaching_copies(scene.elements, scene.lattice)]
+    tol = _ON_TOL * max(scene.scale, 1e-300)
+    out = np.zeros((len(scene.elements), 2))
+    for i, e in enumerate(scene.elements):
+        if not isinstance(e, (Segment, Arc)):
+            continue
+        for k, (pt, d_e, n_e) in enumerate(_end_frames(e)):
+            convex = None
+            for f in others:
+                if f == e or len(_on(f, pt[None], tol)) == 0:
+                    continue
+                frame = _frame_at(f, pt, tol)
+                if frame is None:  # a line, a circle or another piece's interior
+                    convex = True
+                    break
+                d_f, n_f = frame
+                m = d_e + d_f
+                if np.linalg.norm(m) < 1e-12 or (n_e @ m > 0 and n_f @ m > 0):
+                    convex = True
+                    break
+                convex = False
+            out[i, k] = 1.0 if convex else NONCONVEX_END_FACTOR
+    return out

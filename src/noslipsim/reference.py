@@ -17,8 +17,10 @@ Algorithm (one collision)
    is removed by dividing by ``t``.
 2. *All real roots.*  Degree 1 and 2 in closed form (the cancellation-free
    quadratic formula), degree 3 and 4 by :func:`mpmath.polyroots`
-   (Durand-Kerner on all complex roots) at twice the working precision; roots
-   it returns as real are the real roots.
+   (Durand-Kerner on all complex roots, iterated at three times the working
+   precision); the roots it returns as real (imaginary part below the working
+   epsilon) are the real roots.  A polynomial whose coefficients show no sign
+   change has no positive root (Descartes' rule) and is skipped.
 3. *Exit roots.*  A root ``t > 0`` is a hit if the polynomial decreases there
    (the orbit leaves the table: ``p'(t) < 0`` beyond a noise floor
    ``10^(-2 dps / 5)`` relative to the size of the terms of ``p'``, so an exact
@@ -40,12 +42,14 @@ Algorithm (one collision)
    (no-slip); specular keeps ``v_t`` and ``w`` and reverses ``v_n``.
 6. *Corner rule* (as documented in :mod:`noslipsim.core.loop`): every other
    element touched at the hit point (signed distance within ``tol``, in its
-   extent within ``tol``) that the new velocity leaves through is hit at once,
-   in index order, as a separate collision with ``corner = 1``; more than
-   ``MAX_CORNER_BOUNCES`` in a row stop the orbit (``corner``).  A particle
-   at an end of a segment or arc that moves past that end does not leave
-   through it.  If the element hit last would be left through at once the
-   orbit stops (``grazing``).
+   extent within ``tol``: ends inclusive) whose supporting line or circle the
+   new velocity leaves (distance rate ``< 0``, or ``= 0`` with a negative
+   second coefficient) is hit at once, in index order, as a separate
+   collision with ``corner = 1``; more than ``MAX_CORNER_BOUNCES`` in a row
+   stop the orbit (``corner``).  If the element hit last would be left
+   through at once the orbit stops (``grazing``).  The kernel's junction gate
+   (corner pass only near points where two elements meet) is a shortcut that
+   cannot change this rule's outcome, so it has no twin here.
 
 ``tol = 10^(-floor(dps/2)) * max(scene scale, |x|, |y|)`` is the only length
 tolerance.  The stop rules follow :data:`noslipsim.core.layout.STOP_REASONS`:
@@ -58,9 +62,10 @@ is exact).  Element geometry is read from the element objects: segments from
 their end points ``p0, p1`` (so adjacent polygon edges share their vertex
 exactly), lines from ``point`` and the stored float unit ``normal`` (taken as
 an exact direction and renormalised), circles and arcs from ``center``,
-``radius``, ``theta0``, ``theta1``.  The arc ends at the float angles, so an
-arc meets a segment built at ``r cos(pi/2)`` only to about ``1e-16``; orbits
-aimed that close to such a junction are outside what either engine resolves.
+``radius``, ``theta0``, ``theta1``.  An arc ends at its float angles, so where
+it meets a segment (a stadium's ``theta0 = -pi/2`` rounded) the two touch only
+to about ``1e-16``; orbits aimed that close to such a junction are beyond what
+either engine resolves.
 """
 from __future__ import annotations
 
@@ -124,11 +129,6 @@ class _StraightMp:
             return 2
         return 0
 
-    def extent_rate(self, x, y, vx, vy):
-        if self.u is None:
-            return self.ctx.zero
-        return vx * self.u[0] + vy * self.u[1]
-
     def place(self, x, y):
         """Orthogonal projection onto the line."""
         d = self.distance(x, y)
@@ -189,12 +189,6 @@ class _RoundMp:
         if ang < self.span:
             return 0
         return -1
-
-    def extent_rate(self, x, y, vx, vy):
-        if self.theta0 is None:
-            return self.ctx.zero
-        dx, dy = x - self.cx, y - self.cy
-        return (dx * vy - dy * vx) / (dx * dx + dy * dy)
 
     def place(self, x, y):
         """Radial projection onto the circle."""
@@ -531,20 +525,15 @@ def _run(scene, q, v, w, resume_element, max_collisions, max_time, level, dps):
         return None
 
     def leaves_through(el, tol):
-        """The particle touches ``el`` and its velocity takes it out of the table through ``el``."""
+        """The particle touches ``el`` (ends inclusive) and leaves its supporting line or circle."""
         if abs(el.distance(x, y)) > tol:
             return False
-        where = el.extent(x, y, tol)
-        if where < 0:
+        if el.extent(x, y, tol) < 0:
             return False
         rate = el.rate(x, y, vx, vy)
         if rate > 0:
             return False
         if rate == 0 and el.crossing(x, y, vx, vy, ax, ay)[2] >= 0:
-            return False
-        if where == 1 and el.extent_rate(x, y, vx, vy) < 0:
-            return False
-        if where == 2 and el.extent_rate(x, y, vx, vy) > 0:
             return False
         return True
 

@@ -152,12 +152,15 @@ class Scene:
         return unit_pair(*noslip_coefficients(self.gamma))
 
     def arrays(self):
-        """``(kinds, params)`` arrays for the kernels."""
+        """``(kinds, params)`` arrays for the kernels (with the end-band factors of segments and arcs)."""
+        from .junctions import end_factors
+
         kinds = np.array([e.kind for e in self.elements], dtype=np.int64)
         params = np.zeros((len(self.elements), layout.N_PARAMS))
         for i, e in enumerate(self.elements):
             row = e.params()
             params[i, : len(row)] = row
+        params[:, layout.END_START:layout.END_END + 1] = end_factors(self)
         return kinds, params
 
     def kernel_inputs(self):

@@ -20,8 +20,9 @@ from .geometry import (
     signed_distance,
 )
 from .jit import jit
-from .layout import ARC, LINE, SEGMENT
+from .layout import ARC, END_END, END_START, LINE, SEGMENT
 from .roots import cubic_exits, linear_exit, quadratic_exit, quartic_exits
+from .tolerances import CONTACT_GAP, CONTACT_TOL
 
 INF = math.inf
 
@@ -138,19 +139,26 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_forc
 
 @jit
 def leaves_through_contact(kind, p, x, y, vx, vy, ax, ay, tol):
-    """True if a particle at ``(x, y)`` touches this element (within ``tol``) and is moving out through it.
+    """True if a particle at ``(x, y)`` touches this element and is moving out through it.
+
+    Touching: signed distance in ``[-tol, tol * CONTACT_GAP / CONTACT_TOL]``
+    (on or, by rounding, past its line; a real gap is left to the root finder).
 
     Used for the corner rule: after a hit, any other element touched at the
     same point (ends inclusive) whose supporting line or circle the new
     velocity leaves through is hit at once.  At a convex vertex leaving that
     half plane is leaving the table, whatever the direction along the element;
-    at a reflex vertex the extra reflection keeps the particle inside too.
+    at a reflex vertex or free end (end factor < 1) there is no such contact.
     """
     d = signed_distance(kind, p, x, y)
-    if abs(d) > tol:
+    if d < -tol or d > tol * (CONTACT_GAP / CONTACT_TOL):
         return False
     where = extent_position(kind, p, x, y, tol)
     if where < 0:
+        return False
+    # at a reflex junction the table is locally the union of the two half planes:
+    # having just entered the other one, the particle is inside
+    if (where == 1 and p[END_START] < 1.0) or (where == 2 and p[END_END] < 1.0):
         return False
     rate = distance_rate(kind, p, x, y, vx, vy)
     if rate > 0.0:

@@ -11,7 +11,7 @@ the table, into the wall) and the tangent is ``t = J n = (-n_y, n_x)``.
 import math
 
 from .jit import jit
-from .layout import ARC, CIRCLE, LINE, SEGMENT
+from .layout import ARC, CIRCLE, END_END, END_START, LINE, SEGMENT
 
 TWO_PI = 2.0 * math.pi
 
@@ -74,12 +74,17 @@ def extent_coordinate(kind, p, x, y):
 def extent_position(kind, p, x, y, tol):
     """Where ``(x, y)`` lies in the element's extent: -1 outside, 0 interior, 1 at the start, 2 at the end.
 
-    ``tol`` is an absolute length: ends are inclusive within it.
+    ``tol`` is an absolute length.  Within ``tol`` of an end counts as at that
+    end; beyond an end, the extent reaches ``tol`` times the end's factor
+    (columns ``END_START``, ``END_END``): the full band at a convex junction,
+    where it keeps a flight aimed at the vertex from passing between two
+    pieces, and a rounding-sized band at reflex junctions and free ends,
+    where the exact dynamics has no hit.
     """
     if kind == SEGMENT:
         u = (x - p[0]) * p[4] + (y - p[1]) * p[5]
         L = p[6]
-        if u < -tol or u > L + tol:
+        if u < -tol * p[END_START] or u > L + tol * p[END_END]:
             return -1
         if u <= tol:
             return 1
@@ -90,9 +95,9 @@ def extent_position(kind, p, x, y, tol):
         ang = extent_coordinate(kind, p, x, y)
         span = p[5]
         atol = tol / p[2]
-        if ang <= atol or ang >= TWO_PI - atol:
+        if ang <= atol or ang >= TWO_PI - atol * p[END_START]:
             return 1
-        if span - atol <= ang <= span + atol:
+        if span - atol <= ang <= span + atol * p[END_END]:
             return 2
         if ang < span:
             return 0

@@ -8,6 +8,9 @@ SEGMENT    p0x, p0y, nx, ny, dx, dy, L     (start; inward unit normal; unit dire
 CIRCLE     cx, cy, r, sigma                (sigma = +1: table outside (scatterer), -1: inside)
 ARC        cx, cy, r, sigma, theta0, span  (theta0 in [0, 2pi); CCW span in (0, 2pi])
 =========  ======================================================================
+
+Segments and arcs also carry, in columns ``END_START`` and ``END_END``, the
+factor by which ``EXTENT_TOL`` extends each end.
 """
 
 LINE = 0
@@ -15,7 +18,13 @@ SEGMENT = 1
 CIRCLE = 2
 ARC = 3
 
-N_PARAMS = 8
+N_PARAMS = 10
+
+#: Segments and arcs: columns holding the end-band factors of their start and
+#: end (1 at a convex junction, ``NONCONVEX_END_FACTOR`` at a reflex junction
+#: or a free end; see :mod:`noslipsim.junctions`).
+END_START = 8
+END_END = 9
 
 #: Collision laws.
 SPECULAR = 0

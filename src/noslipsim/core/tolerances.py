@@ -11,10 +11,20 @@ scale invariant.
 #: cannot pass between them.
 EXTENT_TOL = 1e-11
 
+#: At a reflex junction or a free end the band beyond the end shrinks to
+#: ``NONCONVEX_END_FACTOR * EXTENT_TOL`` (1e-14: rounding of a hit point), so
+#: a flight passing just beside such an end is not hit, while one through the
+#: exact vertex of a reflex corner still cannot slip between the two pieces.
+NONCONVEX_END_FACTOR = 1e-3
+
 #: After a collision, another element whose signed distance at the new
-#: position is within ``CONTACT_TOL * scale`` and which the velocity leaves
-#: through is hit immediately (the corner rule).
+#: position lies in ``[-CONTACT_TOL, CONTACT_GAP] * scale`` and which the
+#: velocity leaves through is hit immediately (the corner rule).  The band is
+#: one-sided: a particle rounding has put on or past the other element's line
+#: has no positive root left to find, while a real gap, however small, is an
+#: ordinary root the solver finds exactly (a short flight, not a snap).
 CONTACT_TOL = 1e-11
+CONTACT_GAP = 1e-14
 
 #: Safeguarded Newton iterations per root (bisection fallback halves the
 #: bracket at every failed step, so 200 steps exhaust float64).
