@@ -77,16 +77,20 @@ def check_starts(scene: Scene, positions, velocities, spins, start_elements=None
         if bad.any():
             i = int(np.flatnonzero(inside)[np.argmax(bad)])
             raise ValueError(f"positions: orbit {i} starts at {q[i].tolist()}, not strictly inside the table")
-    for i in np.flatnonzero(~inside):
-        e = scene.elements[on[i]]
-        tol = 1e-9 * max(scene.scale, 1.0)
-        dist = abs(float(e.side_distance(q[i])))
-        within = float(e.distance(q[i][None])[0]) if e.finite else dist
-        if dist > tol or within > tol:
-            raise ValueError(f"positions: orbit {i} is not on start element {on[i]}")
-        ahead = q[i] + 1e-6 * max(scene.scale, 1.0) * v[i] / max(np.hypot(*v[i]), 1e-300)
-        if not float(e.side_distance(ahead)) > 0:
-            raise ValueError(f"velocities: orbit {i} does not enter the table from start element {on[i]}")
+    tol = 1e-9 * max(scene.scale, 1.0)
+    for k in np.unique(on[~inside]):
+        idx = np.flatnonzero(on == k)
+        e = scene.elements[k]
+        dist = np.abs(e.side_distance(q[idx]))
+        off = np.maximum(dist, e.distance(q[idx]) if e.finite else dist)
+        if (off > tol).any():
+            raise ValueError(f"positions: orbit {int(idx[np.argmax(off > tol)])} is not on start element {k}")
+        speed = np.maximum(np.hypot(v[idx, 0], v[idx, 1]), 1e-300)
+        ahead = q[idx] + 1e-6 * max(scene.scale, 1.0) * v[idx] / speed[:, None]
+        enters = e.side_distance(ahead) > 0
+        if not enters.all():
+            raise ValueError(f"velocities: orbit {int(idx[np.argmin(enters)])} does not enter the table "
+                             f"from start element {k}")
     return q, v, w, on
 
 
