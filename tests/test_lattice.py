@@ -187,3 +187,12 @@ def test_lattice_rejects_infinite_lines():
     with pytest.raises(ValueError, match="infinite lines"):
         Scene.from_dict({"elements": [{"type": "line", "point": [0, 0], "normal": [0, 1]}],
                          "lattice": {"a1": [1, 0], "a2": [0, 1]}})
+
+
+def test_unit_cell_polygon_is_the_centred_ccw_cell():
+    from noslipsim.lattice import unit_cell_polygon
+    square = unit_cell_polygon({"a1": [1.0, 0.0], "a2": [0.0, 1.0]})
+    np.testing.assert_allclose(square, [[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]])
+    tri = unit_cell_polygon(tables.hex_lorentz_cell().lattice)
+    area = 0.5 * np.sum(tri[:, 0] * np.roll(tri[:, 1], -1) - np.roll(tri[:, 0], -1) * tri[:, 1])
+    assert area == pytest.approx(math.sqrt(3) / 2)
