@@ -68,5 +68,5 @@ def unit_cell_polygon(lattice):
     """Vertices of cell 0 (CCW), for drawing."""
     A, _ = lattice_matrix(lattice)
     corners = np.array([[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]]) @ A.T
-    area = np.cross(A[:, 0], A[:, 1])
+    area = A[0, 0] * A[1, 1] - A[1, 0] * A[0, 1]
     return corners if area > 0 else corners[::-1]
