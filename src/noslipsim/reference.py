@@ -69,6 +69,7 @@ either engine resolves.
 """
 from __future__ import annotations
 
+import inspect
 import math
 from dataclasses import dataclass, field
 
@@ -239,6 +240,17 @@ def _polyval(coeffs, t):
     return acc
 
 
+def _polyroots(ctx, coeffs, steps, extra):
+    """All complex roots of ``sum(coeffs[k] t^k)`` (ascending coefficients).
+
+    mpmath >= 1.4 takes ascending coefficients with ``asc=True`` and deprecates the
+    descending order; older releases know only the descending order.
+    """
+    if "asc" in inspect.signature(ctx.polyroots).parameters:
+        return ctx.polyroots(list(coeffs), maxsteps=steps, extraprec=extra, asc=True)
+    return ctx.polyroots(list(reversed(coeffs)), maxsteps=steps, extraprec=extra)
+
+
 def _real_roots(ctx, coeffs):
     """All real roots of the polynomial with ascending ``coeffs`` (exact zero leading terms dropped)."""
     coeffs = list(coeffs)
@@ -261,7 +273,7 @@ def _real_roots(ctx, coeffs):
     steps, extra = 400, 2 * ctx.prec
     for _ in range(3):
         try:
-            roots = ctx.polyroots(list(reversed(coeffs)), maxsteps=steps, extraprec=extra)
+            roots = _polyroots(ctx, coeffs, steps, extra)
             break
         except ctx.NoConvergence:
             steps, extra = 4 * steps, 2 * extra
