@@ -110,11 +110,10 @@ def start_cell(scene: Scene, q):
     return cell, origin, q - origin
 
 
-def run_one(scene: Scene, q, v, w, max_collisions, max_time, level, mode, rec, mask=None, inputs=None):
+def run_one(scene: Scene, q, v, w, max_collisions, max_time, level, mode, rec):
     """Run the kernel for one validated start; positions and cells come back absolute."""
-    kinds, params, copies, A, B, lattice, jstart, jpts = scene.kernel_inputs() if inputs is None else inputs
-    if mask is None:
-        mask = np.zeros(len(kinds), dtype=np.bool_)
+    kinds, params, copies, A, B, lattice, jstart, jpts = scene.kernel_inputs()
+    mask = np.zeros(len(kinds), dtype=np.bool_)  # no portrait recorder for a single orbit
     c, s = scene.noslip_coefficients
     ax, ay = scene.force
     cell, origin, r = start_cell(scene, q)

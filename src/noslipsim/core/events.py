@@ -17,6 +17,7 @@ from .geometry import (
     distance_rate,
     element_box,
     extent_position,
+    lattice_shift,
     signed_distance,
 )
 from .jit import jit
@@ -115,8 +116,7 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_forc
         e = copies[k, 0]
         o1 = copies[k, 1] + d1
         o2 = copies[k, 2] + d2
-        sx = o1 * A[0, 0] + o2 * A[0, 1]
-        sy = o1 * A[1, 0] + o2 * A[1, 1]
+        sx, sy = lattice_shift(A, o1, o2)
         if e == cur_e and o1 == cur_o1 and o2 == cur_o2:
             t = element_hit_time(kinds[e], params[e], x - sx, y - sy, vx, vy, ax, ay, has_force,
                                  True, best_t, extent_tol)

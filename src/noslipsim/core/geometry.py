@@ -17,6 +17,12 @@ TWO_PI = 2.0 * math.pi
 
 
 @jit
+def lattice_shift(A, n1, n2):
+    """The translation ``n1 a1 + n2 a2`` (lattice vectors are the columns of ``A``; zero for plain scenes)."""
+    return n1 * A[0, 0] + n2 * A[0, 1], n1 * A[1, 0] + n2 * A[1, 1]
+
+
+@jit
 def crossing_coefficients(kind, p, x, y, vx, vy, ax, ay):
     """Coefficients ``(c0, ..., c4)`` of the crossing polynomial of element ``p`` along a flight.
 

@@ -25,7 +25,7 @@ import numpy as np
 
 from .cells import walk_hit
 from .events import flight_position, hit_in_cell, leaves_through_contact, slides_off
-from .geometry import arclength, place_on_element
+from .geometry import arclength, lattice_shift, place_on_element
 from .jit import jit
 from .laws import collide
 from .layout import (
@@ -95,8 +95,7 @@ def _contact(kinds, params, copies, A, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_
         o2 = copies[k, 2]
         if e == cur_e and o1 == cur_o1 and o2 == cur_o2:
             continue
-        sx = o1 * A[0, 0] + o2 * A[0, 1]
-        sy = o1 * A[1, 0] + o2 * A[1, 1]
+        sx, sy = lattice_shift(A, o1, o2)
         if leaves_through_contact(kinds[e], params[e], x - sx, y - sy, vx, vy, ax, ay, tol):
             return e, o1, o2
     return -1, 0, 0
@@ -207,8 +206,7 @@ def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax,
         vy_in = vy + ay * t_hit
         kind = kinds[e]
         p = params[e]
-        sx = o1 * A[0, 0] + o2 * A[0, 1]
-        sy = o1 * A[1, 0] + o2 * A[1, 1]
+        sx, sy = lattice_shift(A, o1, o2)
         px, py, nx, ny = place_on_element(kind, p, hx - sx, hy - sy)
         x = px + sx
         y = py + sy
@@ -216,16 +214,15 @@ def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax,
             k1 = int(np.rint(B[0, 0] * x + B[0, 1] * y))
             k2 = int(np.rint(B[1, 0] * x + B[1, 1] * y))
             if k1 != 0 or k2 != 0:
-                x -= k1 * A[0, 0] + k2 * A[0, 1]
-                y -= k1 * A[1, 0] + k2 * A[1, 1]
+                dx, dy = lattice_shift(A, k1, k2)
+                x -= dx
+                y -= dy
                 m1 += k1
                 m2 += k2
                 o1 -= k1
                 o2 -= k2
-                ox = m1 * A[0, 0] + m2 * A[0, 1]
-                oy = m1 * A[1, 0] + m2 * A[1, 1]
-                sx = o1 * A[0, 0] + o2 * A[0, 1]
-                sy = o1 * A[1, 0] + o2 * A[1, 1]
+                ox, oy = lattice_shift(A, m1, m2)
+                sx, sy = lattice_shift(A, o1, o2)
         vx, vy, w_out = collide(law, c, s, vx_in, vy_in, w, nx, ny)
         t += t_hit
         n_rec = _record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w_out, vx_in, vy_in, w,
@@ -249,8 +246,7 @@ def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax,
                 break
             kind = kinds[j]
             p = params[j]
-            sx = o1 * A[0, 0] + o2 * A[0, 1]
-            sy = o1 * A[1, 0] + o2 * A[1, 1]
+            sx, sy = lattice_shift(A, o1, o2)
             nx, ny = place_on_element(kind, p, x - sx, y - sy)[2:]
             vx_in = vx
             vy_in = vy
@@ -265,8 +261,7 @@ def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax,
             cur_o2 = o2
         if stop == STOP_CORNER:
             break
-        sx = cur_o1 * A[0, 0] + cur_o2 * A[0, 1]
-        sy = cur_o1 * A[1, 0] + cur_o2 * A[1, 1]
+        sx, sy = lattice_shift(A, cur_o1, cur_o2)
         if slides_off(kinds[cur_e], params[cur_e], x - sx, y - sy, vx, vy, ax, ay):
             stop = STOP_GRAZING
             break
