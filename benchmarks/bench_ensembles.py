@@ -11,6 +11,7 @@ import argparse
 import math
 import os
 import platform
+import sys
 import time
 
 import numpy as np
@@ -18,6 +19,9 @@ import numpy as np
 import noslipsim as ns
 from noslipsim import initial, tables
 from noslipsim.experiments import galton_distribution
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from machine import cpu_model  # noqa: E402
 
 ROWS = 100
 DEPTH = ROWS * math.sqrt(3.0)
@@ -31,17 +35,6 @@ def rate(scene, q0, n, scheduler, chunk_size=None, **kw):
     ds = ns.simulate_many(scene, q, v, scheduler=scheduler, chunk_size=chunk_size, progress=False, **kw)
     dt = time.perf_counter() - t0
     return int(ds.n_collisions.sum()) / dt, dt
-
-
-def cpu_model():
-    try:
-        with open("/proc/cpuinfo") as fh:
-            for line in fh:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor()
 
 
 def main():

@@ -66,6 +66,9 @@ import noslipsim
 from noslipsim import Circle, Scene, Segment, simulate, simulate_many, tables
 from noslipsim.reference import simulate_reference
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from machine import cpu_model  # noqa: E402
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 RESULTS = os.path.join(HERE, "results")
 
@@ -509,15 +512,7 @@ def _keep_min(row, wall, cpu):
 
 # ----------------------------------------------------------------------------- reports
 def machine():
-    cpu = platform.processor() or "unknown"
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as fh:
-            for line in fh:
-                if line.startswith("model name"):
-                    cpu = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
+    cpu = cpu_model()
     import numba
     import scipy
 
