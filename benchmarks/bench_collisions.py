@@ -12,7 +12,7 @@ import numpy as np
 
 from noslipsim import Circle, Scene, simulate, tables
 from noslipsim.core import layout
-from noslipsim.core.loop import run_orbit
+from noslipsim.core.loop import orbit_kernel
 
 SCENES = {
     "pentagon (no force)": (tables.regular_polygon(5), (0.1, 0.05), (0.83, 0.41)),
@@ -29,6 +29,7 @@ def kernel_rate(scene, q, v, n):
     rec = np.zeros((0, layout.N_LOG))
     mask = np.zeros(len(kinds), dtype=np.bool_)
     args = (*inputs, scene.law_code, c, s, ax, ay, q[0], q[1], v[0], v[1], 0.1)
+    run_orbit = orbit_kernel(*scene.kernel_variant(layout.RECORD_NONE))
     run_orbit(*args, 10, math.inf, -math.inf, scene.scale, layout.RECORD_NONE, rec, mask)  # compile
     t0 = time.perf_counter()
     done = run_orbit(*args, n, math.inf, -math.inf, scene.scale, layout.RECORD_NONE, rec, mask)[0]

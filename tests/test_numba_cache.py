@@ -12,7 +12,7 @@ def test_stale_cache_is_emptied_and_restamped(monkeypatch, tmp_path):
     cache = core / "__pycache__"
     cache.mkdir()
     stamp = cache / _numba_cache.STAMP
-    kernel = cache / "loop.run_orbit-0.py311.nbi"
+    kernel = cache / "loop.orbit_kernel.locals.run_orbit-0.py311.nbi"
 
     kernel.write_text("index")
     _numba_cache.invalidate_if_stale()  # no stamp yet: nothing proves the cache current

@@ -19,8 +19,7 @@ from ._validate import finite_float
 from ._version import __version__
 from .core import layout
 from .core.batch import (
-    F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y, N_FINAL,
-    run_batch, run_batch_serial,
+    F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y, N_FINAL, batch_kernels,
 )
 from .lattice import cell_of, cell_origin
 from .metadata import annotate
@@ -95,13 +94,13 @@ def check_starts(scene: Scene, positions, velocities, spins, start_elements=None
 
 
 # ---------------------------------------------------------------------------- one chunk
-def _run_chunk(inputs, law, c, s, force, scale, starts, on, levels, max_collisions, max_time, mode,
+def _run_chunk(inputs, variant, law, c, s, force, scale, starts, on, levels, max_collisions, max_time, mode,
                n_rec, n_cols, mask, parallel):
     kinds, params, copies, A, B, lattice, jstart, jpts = inputs
     n = len(starts)
     rec = np.full((n, n_rec, n_cols), np.nan)
     final = np.zeros((n, N_FINAL))
-    kernel = run_batch if parallel else run_batch_serial
+    kernel = batch_kernels(variant)[0 if parallel else 1]
     kernel(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, force[0], force[1], starts, on,
            max_collisions, max_time, levels, scale, mode, rec, mask, final)
     return rec, final
@@ -220,7 +219,9 @@ def simulate_many(scene: Scene, positions, velocities, spins=None, *, max_collis
     levels = np.full(n, level) - origins[:, 1]
     inputs = scene.kernel_inputs()
     c, s = scene.noslip_coefficients
-    args = (inputs, scene.law_code, c, s, scene.force, scene.scale)
+    variant = scene.kernel_variant(mode)
+    batch_kernels(variant)  # built here, not raced for by the dask threads
+    args = (inputs, variant, scene.law_code, c, s, scene.force, scene.scale)
     tail = (max_collisions, max_time, mode, n_rec, n_cols, mask)
 
     if scheduler == "numba" or n == 0:

@@ -26,6 +26,7 @@ from ._unit import unit_pair
 from ._validate import finite_float, finite_vector, no_unknown_keys, required
 from .core import layout
 from .core.laws import noslip_coefficients
+from .core.loop import kernel_flags
 from .elements import element_from_dict
 from .lattice import cell_of, lattice_matrix, reaching_copies
 
@@ -145,6 +146,16 @@ class Scene:
     @property
     def law_code(self):
         return LAWS[self.law]
+
+    def kernel_variant(self, mode):
+        """The compile-time flags of the event loop this scene needs (:func:`core.loop.orbit_kernel`).
+
+        A scene without force never pays for cubic or quartic exits, a
+        specular one for spin updates, a plain one for the cell walk, and
+        ``mode = RECORD_NONE`` for the recorder.
+        """
+        return kernel_flags(self.force != (0.0, 0.0), self.law_code == layout.NOSLIP,
+                            self.lattice is not None, mode)
 
     @property
     def noslip_coefficients(self):

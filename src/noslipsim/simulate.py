@@ -10,7 +10,7 @@ import xarray as xr
 from ._validate import finite_float, finite_vector
 from ._version import __version__
 from .core import layout
-from .core.loop import run_orbit
+from .core.loop import orbit_kernel
 from .metadata import annotate
 from .lattice import cell_of, cell_origin
 from .scenes import Scene
@@ -117,7 +117,7 @@ def run_one(scene: Scene, q, v, w, max_collisions, max_time, level, mode, rec):
     c, s = scene.noslip_coefficients
     ax, ay = scene.force
     cell, origin, r = start_cell(scene, q)
-    n, stop, n_corner, n_rec, t, x, y, vx, vy, w_f, m1, m2 = run_orbit(
+    n, stop, n_corner, n_rec, t, x, y, vx, vy, w_f, m1, m2 = orbit_kernel(*scene.kernel_variant(mode))(
         kinds, params, copies, A, B, lattice, jstart, jpts, scene.law_code, c, s, ax, ay, r[0], r[1], v[0], v[1], w,
         max_collisions, max_time, level - origin[1], scene.scale, mode, rec, mask)
     if mode == layout.RECORD_LOG and lattice:

@@ -35,16 +35,25 @@ def _strip_exit(alpha0, alpha1, alpha2, lo, hi, t_in):
 
     The polynomial is re-centred at ``t_in``.  Returns ``(t, step)`` with
     ``step = +1`` through ``hi``, ``-1`` through ``lo``, or ``(inf, 0)``.
+    The side ``alpha`` moves towards (or, at rest, curves towards) is solved
+    first: a finite exit there comes before any exit through the other side,
+    which needs the motion to turn back, so one square root usually suffices.
     """
     al = alpha0 + t_in * (alpha1 + alpha2 * t_in)
     rate = alpha1 + 2.0 * alpha2 * t_in
-    t_up = _boundary_exit(hi - al, -rate, -alpha2)
+    up = rate > 0.0 or (rate == 0.0 and alpha2 > 0.0)
+    if up:
+        t_up = _boundary_exit(hi - al, -rate, -alpha2)
+        if t_up < INF:
+            return t_in + t_up, 1
     t_dn = _boundary_exit(al - lo, rate, alpha2)
-    if t_up == INF and t_dn == INF:
-        return INF, 0
-    if t_up <= t_dn:
-        return t_in + t_up, 1
-    return t_in + t_dn, -1
+    if t_dn < INF:
+        return t_in + t_dn, -1
+    if not up:
+        t_up = _boundary_exit(hi - al, -rate, -alpha2)
+        if t_up < INF:
+            return t_in + t_up, 1
+    return INF, 0
 
 
 @jit

@@ -19,6 +19,7 @@ Positions are relative to the particle's current lattice cell (plain scenes:
 one cell, ``A = 0``) and flights start from the last collision; only the total
 time is a running sum.
 """
+import functools
 import math
 
 import numpy as np
@@ -31,7 +32,7 @@ from .laws import collide
 from .layout import (
     LOG_CELL_A1, LOG_CELL_A2, LOG_CORNER, LOG_ELEMENT, LOG_S, LOG_T, LOG_VX, LOG_VX_IN, LOG_VY,
     LOG_VY_IN, LOG_W, LOG_W_IN, LOG_X, LOG_Y, POR_ELEMENT, POR_S, POR_VN, POR_VT, POR_W,
-    RECORD_LOG, RECORD_PORTRAIT, STOP_CORNER, STOP_ESCAPE, STOP_GRAZING, STOP_LEVEL,
+    NOSLIP, RECORD_LOG, RECORD_NONE, RECORD_PORTRAIT, SPECULAR, STOP_CORNER, STOP_ESCAPE, STOP_GRAZING, STOP_LEVEL,
     STOP_MAX_COLLISIONS, STOP_MAX_TIME,
 )
 from .roots import quadratic_exit
@@ -101,171 +102,214 @@ def _contact(kinds, params, copies, A, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_
     return -1, 0, 0
 
 
-@jit
-def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, x, y, vx, vy, w,
-              max_collisions, max_time, stop_below, scale, mode, rec, mask, start_element=-1):
-    """Run one orbit from a state strictly inside the table.
+#: Kernel variants are keyed by ``(force, spin, lattice, mode)``; ``None`` in a
+#: slot means "read from the arguments at run time" (the general path).
+GENERAL = (None, None, None, None)
 
-    Parameters
-    ----------
-    kinds, params : arrays
-        Scene elements (see :mod:`noslipsim.core.layout`).
-    copies : int64 array (K, 3)
-        Element copies ``(element, o1, o2)`` that reach a cell; a plain scene
-        lists each element once with zero offsets.
-    A, B : float64 arrays (2, 2)
-        Lattice vectors as columns and the inverse matrix (zeros for plain scenes).
-    lattice : bool
-        Walk cells (periodic scene) or not.
-    jstart, jpts : arrays
-        Junction points of element ``e`` (in its own frame) are
-        ``jpts[jstart[e]:jstart[e + 1]]``; the corner pass runs only for hits
-        near one (:mod:`noslipsim.junctions`).
-    law : int
-        ``SPECULAR`` or ``NOSLIP``; ``c, s`` are the no-slip coefficients.
-    ax, ay : float
-        Constant acceleration (force per unit mass).
-    x, y, vx, vy, w : float
-        Initial position (in cell 0), velocity and scaled spin ``w = gamma R omega``.
-    max_collisions : int
-        Stop after this many collisions (corner collisions included).
-    max_time : float
-        Stop at this time (the state is advanced to it); ``inf`` for none.
-    stop_below : float
-        Stop when the particle crosses this height downwards; ``-inf`` for none.
-    scale : float
-        Length scale of the scene, for the relative tolerances.
-    mode : int
-        ``RECORD_NONE``, ``RECORD_LOG`` or ``RECORD_PORTRAIT``.
-    rec : float64 array
-        Output rows for the records (as many as fit are written).
-    mask : bool array (n_elements,)
-        Elements whose collisions a portrait records.
-    start_element : int
-        ``-1`` for a start strictly inside the table; otherwise the particle
-        starts on this element (in cell 0) as if just reflected by it, so its
-        ``t = 0`` root is deflated (boundary initial conditions).
 
-    Returns
-    -------
-    n, stop, n_corner, n_rec, t, x, y, vx, vy, w, m1, m2
-        Collision count, stop code, corner collisions, records written, and the
-        final state with unfolded position and cell indices.
+def kernel_flags(has_force, noslip, lattice, mode):
+    """The variant key for a scene: what its kernel needs, fixed at compile time."""
+    return bool(has_force), bool(noslip), bool(lattice), int(mode)
+
+
+@functools.lru_cache(maxsize=None)
+def orbit_kernel(force=None, spin=None, lattice=None, mode=None):
+    """The event loop compiled for one kind of scene: a scene pays only for what it needs.
+
+    Each flag is a compile-time constant (``True``/``False``, or a record
+    mode), so the compiler drops the code a scene cannot reach: the cubic and
+    quartic exits without a force, the spin update for specular laws, the
+    cell walk for plain scenes, the recorder when nothing is recorded.  A flag
+    left ``None`` is read from the arguments at run time; ``orbit_kernel()``
+    is the general path (:data:`run_orbit`).  Every variant makes the same
+    floating-point operations on the scenes it serves, so results are
+    identical to the general path's, bit for bit.
     """
-    has_force = ax != 0.0 or ay != 0.0
-    t = 0.0
-    cur_e = start_element
-    cur_o1 = 0
-    cur_o2 = 0
-    m1 = 0
-    m2 = 0
-    ox = 0.0
-    oy = 0.0
-    n = 0
-    n_rec = 0
-    n_corner = 0
-    stop = STOP_MAX_COLLISIONS
-    while n < max_collisions:
-        length = max(scale, abs(x), abs(y))
-        extent_tol = EXTENT_TOL * length
-        remaining = max_time - t
-        t_level = INF
-        if stop_below > -INF:
-            t_level = quadratic_exit(y + oy - stop_below, vy, 0.5 * ay, INF)
-        if lattice:
-            limit = min(remaining, t_level)
-            t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay,
-                                                has_force, cur_e, cur_o1, cur_o2, limit, extent_tol,
-                                                MAX_CELLS_PER_FLIGHT)
-            escape = status == 2 or (status == 1 and limit == INF)
-        else:
-            t_hit, e, o1, o2 = hit_in_cell(kinds, params, copies, A, 0, 0, x, y, vx, vy, ax, ay,
-                                           has_force, cur_e, cur_o1, cur_o2, INF, extent_tol, 0.0)
-            escape = e < 0  # no element ahead: the orbit leaves for good
-        if t_level < INF and t_level <= t_hit and t_level <= remaining:
-            x, y = flight_position(x, y, vx, vy, ax, ay, t_level)
-            y = stop_below - oy
-            vx += ax * t_level
-            vy += ay * t_level
-            t += t_level
-            stop = STOP_LEVEL
-            break
-        if escape:
-            stop = STOP_ESCAPE
-            break
-        if e < 0 or t_hit > remaining:
-            x, y = flight_position(x, y, vx, vy, ax, ay, remaining)
-            vx += ax * remaining
-            vy += ay * remaining
-            t = max_time
-            stop = STOP_MAX_TIME
-            break
-        # relocate onto the element copy, then resolve the collision
-        hx, hy = flight_position(x, y, vx, vy, ax, ay, t_hit)
-        vx_in = vx + ax * t_hit
-        vy_in = vy + ay * t_hit
-        kind = kinds[e]
-        p = params[e]
-        sx, sy = lattice_shift(A, o1, o2)
-        px, py, nx, ny = place_on_element(kind, p, hx - sx, hy - sy)
-        x = px + sx
-        y = py + sy
-        if lattice:  # re-base onto the cell that now holds the particle
-            k1 = int(np.rint(B[0, 0] * x + B[0, 1] * y))
-            k2 = int(np.rint(B[1, 0] * x + B[1, 1] * y))
-            if k1 != 0 or k2 != 0:
-                dx, dy = lattice_shift(A, k1, k2)
-                x -= dx
-                y -= dy
-                m1 += k1
-                m2 += k2
-                o1 -= k1
-                o2 -= k2
-                ox, oy = lattice_shift(A, m1, m2)
-                sx, sy = lattice_shift(A, o1, o2)
-        vx, vy, w_out = collide(law, c, s, vx_in, vy_in, w, nx, ny)
-        t += t_hit
-        n_rec = _record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w_out, vx_in, vy_in, w,
-                        kind, p, sx, sy, e, 0.0, nx, ny)
-        w = w_out
-        n += 1
-        cur_e = e
-        cur_o1 = o1
-        cur_o2 = o2
-        # corner rule: other element copies touched here that the particle would leave through
-        bounces = 0
-        near = _near_junction(jstart, jpts, e, x - sx, y - sy, JUNCTION_GATE * length)
-        while near and n < max_collisions:
-            j, o1, o2 = _contact(kinds, params, copies, A, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2,
-                                 CONTACT_TOL * length)
-            if j < 0:
+    FORCE_RT = force is None
+    FORCE = bool(force)
+    SPIN_RT = spin is None
+    SPIN = bool(spin)
+    LATTICE_RT = lattice is None
+    LATTICE = bool(lattice)
+    MODE_RT = mode is None
+    MODE = RECORD_LOG if mode is None else int(mode)
+
+    @jit
+    def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, x, y, vx, vy, w,
+                  max_collisions, max_time, stop_below, scale, mode, rec, mask, start_element=-1):
+        """Run one orbit from a state strictly inside the table.
+
+        Parameters
+        ----------
+        kinds, params : arrays
+            Scene elements (see :mod:`noslipsim.core.layout`).
+        copies : int64 array (K, 3)
+            Element copies ``(element, o1, o2)`` that reach a cell; a plain scene
+            lists each element once with zero offsets.
+        A, B : float64 arrays (2, 2)
+            Lattice vectors as columns and the inverse matrix (zeros for plain scenes).
+        lattice : bool
+            Walk cells (periodic scene) or not.
+        jstart, jpts : arrays
+            Junction points of element ``e`` (in its own frame) are
+            ``jpts[jstart[e]:jstart[e + 1]]``; the corner pass runs only for hits
+            near one (:mod:`noslipsim.junctions`).
+        law : int
+            ``SPECULAR`` or ``NOSLIP``; ``c, s`` are the no-slip coefficients.
+        ax, ay : float
+            Constant acceleration (force per unit mass).
+        x, y, vx, vy, w : float
+            Initial position (in cell 0), velocity and scaled spin ``w = gamma R omega``.
+        max_collisions : int
+            Stop after this many collisions (corner collisions included).
+        max_time : float
+            Stop at this time (the state is advanced to it); ``inf`` for none.
+        stop_below : float
+            Stop when the particle crosses this height downwards; ``-inf`` for none.
+        scale : float
+            Length scale of the scene, for the relative tolerances.
+        mode : int
+            ``RECORD_NONE``, ``RECORD_LOG`` or ``RECORD_PORTRAIT``.
+        rec : float64 array
+            Output rows for the records (as many as fit are written).
+        mask : bool array (n_elements,)
+            Elements whose collisions a portrait records.
+        start_element : int
+            ``-1`` for a start strictly inside the table; otherwise the particle
+            starts on this element (in cell 0) as if just reflected by it, so its
+            ``t = 0`` root is deflated (boundary initial conditions).
+
+        Returns
+        -------
+        n, stop, n_corner, n_rec, t, x, y, vx, vy, w, m1, m2
+            Collision count, stop code, corner collisions, records written, and the
+            final state with unfolded position and cell indices.
+        """
+        has_force = (ax != 0.0 or ay != 0.0) if FORCE_RT else FORCE
+        law = law if SPIN_RT else (NOSLIP if SPIN else SPECULAR)
+        lattice = lattice if LATTICE_RT else LATTICE
+        mode = mode if MODE_RT else MODE
+        t = 0.0
+        cur_e = start_element
+        cur_o1 = 0
+        cur_o2 = 0
+        m1 = 0
+        m2 = 0
+        ox = 0.0
+        oy = 0.0
+        n = 0
+        n_rec = 0
+        n_corner = 0
+        stop = STOP_MAX_COLLISIONS
+        while n < max_collisions:
+            length = max(scale, abs(x), abs(y))
+            extent_tol = EXTENT_TOL * length
+            remaining = max_time - t
+            t_level = INF
+            if stop_below > -INF:
+                t_level = quadratic_exit(y + oy - stop_below, vy, 0.5 * ay, INF)
+            if lattice:
+                limit = min(remaining, t_level)
+                t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay,
+                                                    has_force, cur_e, cur_o1, cur_o2, limit, extent_tol,
+                                                    MAX_CELLS_PER_FLIGHT)
+                escape = status == 2 or (status == 1 and limit == INF)
+            else:
+                t_hit, e, o1, o2 = hit_in_cell(kinds, params, copies, A, 0, 0, x, y, vx, vy, ax, ay,
+                                               has_force, cur_e, cur_o1, cur_o2, INF, extent_tol, 0.0)
+                escape = e < 0  # no element ahead: the orbit leaves for good
+            if t_level < INF and t_level <= t_hit and t_level <= remaining:
+                x, y = flight_position(x, y, vx, vy, ax, ay, t_level)
+                y = stop_below - oy
+                vx += ax * t_level
+                vy += ay * t_level
+                t += t_level
+                stop = STOP_LEVEL
                 break
-            bounces += 1
-            if bounces > MAX_CORNER_BOUNCES:
-                stop = STOP_CORNER
+            if escape:
+                stop = STOP_ESCAPE
                 break
-            kind = kinds[j]
-            p = params[j]
+            if e < 0 or t_hit > remaining:
+                x, y = flight_position(x, y, vx, vy, ax, ay, remaining)
+                vx += ax * remaining
+                vy += ay * remaining
+                t = max_time
+                stop = STOP_MAX_TIME
+                break
+            # relocate onto the element copy, then resolve the collision
+            hx, hy = flight_position(x, y, vx, vy, ax, ay, t_hit)
+            vx_in = vx + ax * t_hit
+            vy_in = vy + ay * t_hit
+            kind = kinds[e]
+            p = params[e]
             sx, sy = lattice_shift(A, o1, o2)
-            nx, ny = place_on_element(kind, p, x - sx, y - sy)[2:]
-            vx_in = vx
-            vy_in = vy
+            px, py, nx, ny = place_on_element(kind, p, hx - sx, hy - sy)
+            x = px + sx
+            y = py + sy
+            if lattice:  # re-base onto the cell that now holds the particle
+                k1 = int(np.rint(B[0, 0] * x + B[0, 1] * y))
+                k2 = int(np.rint(B[1, 0] * x + B[1, 1] * y))
+                if k1 != 0 or k2 != 0:
+                    dx, dy = lattice_shift(A, k1, k2)
+                    x -= dx
+                    y -= dy
+                    m1 += k1
+                    m2 += k2
+                    o1 -= k1
+                    o2 -= k2
+                    ox, oy = lattice_shift(A, m1, m2)
+                    sx, sy = lattice_shift(A, o1, o2)
             vx, vy, w_out = collide(law, c, s, vx_in, vy_in, w, nx, ny)
-            n_rec = _record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w_out, vx_in, vy_in, w,
-                            kind, p, sx, sy, j, 1.0, nx, ny)
+            t += t_hit
+            if mode != RECORD_NONE:
+                n_rec = _record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w_out, vx_in, vy_in, w,
+                                kind, p, sx, sy, e, 0.0, nx, ny)
             w = w_out
             n += 1
-            n_corner += 1
-            cur_e = j
+            cur_e = e
             cur_o1 = o1
             cur_o2 = o2
-        if stop == STOP_CORNER:
-            break
-        sx, sy = lattice_shift(A, cur_o1, cur_o2)
-        if slides_off(kinds[cur_e], params[cur_e], x - sx, y - sy, vx, vy, ax, ay):
-            stop = STOP_GRAZING
-            break
-    if lattice:  # the final state may lie in another cell (a stop in mid-flight)
-        m1 += int(np.rint(B[0, 0] * x + B[0, 1] * y))
-        m2 += int(np.rint(B[1, 0] * x + B[1, 1] * y))
-    return n, stop, n_corner, n_rec, t, x + ox, y + oy, vx, vy, w, m1, m2
+            # corner rule: other element copies touched here that the particle would leave through
+            bounces = 0
+            near = _near_junction(jstart, jpts, e, x - sx, y - sy, JUNCTION_GATE * length)
+            while near and n < max_collisions:
+                j, o1, o2 = _contact(kinds, params, copies, A, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2,
+                                     CONTACT_TOL * length)
+                if j < 0:
+                    break
+                bounces += 1
+                if bounces > MAX_CORNER_BOUNCES:
+                    stop = STOP_CORNER
+                    break
+                kind = kinds[j]
+                p = params[j]
+                sx, sy = lattice_shift(A, o1, o2)
+                nx, ny = place_on_element(kind, p, x - sx, y - sy)[2:]
+                vx_in = vx
+                vy_in = vy
+                vx, vy, w_out = collide(law, c, s, vx_in, vy_in, w, nx, ny)
+                if mode != RECORD_NONE:
+                    n_rec = _record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w_out, vx_in, vy_in,
+                                    w, kind, p, sx, sy, j, 1.0, nx, ny)
+                w = w_out
+                n += 1
+                n_corner += 1
+                cur_e = j
+                cur_o1 = o1
+                cur_o2 = o2
+            if stop == STOP_CORNER:
+                break
+            sx, sy = lattice_shift(A, cur_o1, cur_o2)
+            if slides_off(kinds[cur_e], params[cur_e], x - sx, y - sy, vx, vy, ax, ay):
+                stop = STOP_GRAZING
+                break
+        if lattice:  # the final state may lie in another cell (a stop in mid-flight)
+            m1 += int(np.rint(B[0, 0] * x + B[0, 1] * y))
+            m2 += int(np.rint(B[1, 0] * x + B[1, 1] * y))
+        return n, stop, n_corner, n_rec, t, x + ox, y + oy, vx, vy, w, m1, m2
+
+    return run_orbit
+
+
+#: The general path: every flag read at run time.
+run_orbit = orbit_kernel()

@@ -225,10 +225,39 @@ def cubic_roots_in(c0, c1, c2, c3, lo, hi):
 
 
 @jit
+def surely_positive(c0, c1, c2, c3, c4, hi):
+    """True if ``p`` (degree <= 4) is certainly positive on ``[0, hi]`` (finite ``hi``).
+
+    ``p`` is a convex combination of its Bernstein coefficients on ``[0, hi]``
+    (``b_k = sum_j C(k, j)/C(4, j) c_j hi^j``), so ``min b_k > 0`` excludes a
+    root.  The margin, ``32 eps sum_j |c_j| hi^j``, exceeds both the rounding
+    of the ``b_k`` and that of evaluating ``p`` by Horner's rule, so a
+    polynomial excluded here is one the isolation below would find no exit
+    of either: the test only saves work, it never changes a result.
+    """
+    d1 = c1 * hi
+    d2 = c2 * hi * hi
+    d3 = c3 * hi * hi * hi
+    d4 = c4 * hi * hi * hi * hi
+    margin = 32.0 * EPS * (abs(c0) + abs(d1) + abs(d2) + abs(d3) + abs(d4))
+    if c0 <= margin:
+        return False
+    if c0 + 0.25 * d1 <= margin:
+        return False
+    if c0 + 0.5 * d1 + d2 / 6.0 <= margin:
+        return False
+    if c0 + 0.75 * d1 + 0.5 * d2 + 0.25 * d3 <= margin:
+        return False
+    return c0 + d1 + d2 + d3 + d4 > margin
+
+
+@jit
 def cubic_exits(c0, c1, c2, c3, hi):
     """Exit roots ``(e1, e2)`` of a cubic in ``(0, hi]`` (inf padded)."""
     if c3 == 0.0:
         return quadratic_exit(c0, c1, c2, hi), INF
+    if hi < INF and surely_positive(c0, c1, c2, c3, 0.0, hi):
+        return INF, INF
     if hi == INF:
         hi = cauchy_bound(c0, c1, c2, c3, 0.0, 3)
     n, k1, k2 = quadratic_roots(c1, 2.0 * c2, 3.0 * c3)
@@ -239,10 +268,63 @@ def cubic_exits(c0, c1, c2, c3, hi):
 
 
 @jit
+def surely_convex(c2, c3, c4, hi):
+    """True if ``p'' = 2 c2 + 6 c3 t + 12 c4 t^2`` is certainly positive on ``[0, hi]`` (finite ``hi``, ``c4 >= 0``)."""
+    margin = 16.0 * EPS * (abs(2.0 * c2) + abs(6.0 * c3 * hi) + 12.0 * c4 * hi * hi)
+    if 2.0 * c2 <= margin or 2.0 * c2 + hi * (6.0 * c3 + 12.0 * c4 * hi) <= margin:
+        return False
+    if c4 > 0.0:
+        tv = -c3 / (4.0 * c4)
+        if 0.0 < tv < hi and 2.0 * c2 - 0.75 * c3 * c3 / c4 <= margin:
+            return False
+    return True
+
+
+#: Newton steps ``convex_first_exit`` takes before it hands over to the full
+#: isolation: a simple root converges quadratically in far fewer, a
+#: (near-)double root only linearly.
+CONVEX_NEWTON_STEPS = 16
+
+
+@jit
+def convex_first_exit(c0, c1, c2, c3, c4, hi):
+    """Exit root in ``(0, hi]`` of ``p`` convex on ``[0, hi]`` with ``p(0) = c0 > 0``; inf if none.
+
+    A convex ``p`` has at most one exit (its first root).  Newton's iterates
+    from ``t = 0`` increase monotonically and never pass that root, so the
+    first iterate beyond ``hi``, or one where ``p`` stops decreasing, proves
+    there is none in the window; no critical point needs to be located.
+    Returns ``-1`` when the iterates converge only linearly (a tangency to
+    rounding): the caller then decides by the full isolation, so a tangency
+    is treated as everywhere else.
+    """
+    t = 0.0
+    f = c0
+    for _ in range(CONVEX_NEWTON_STEPS):
+        d = horner_prime(c1, c2, c3, c4, t)
+        if d >= 0.0:  # the minimum is behind: p > 0 from here on
+            return INF
+        tn = t - f / d
+        if tn > hi:
+            return INF
+        f = horner(c0, c1, c2, c3, c4, tn)
+        if f <= 0.0 or tn - t <= 2.0 * EPS * tn:
+            return tn
+        t = tn
+    return -1.0
+
+
+@jit
 def quartic_exits(c0, c1, c2, c3, c4, hi):
     """Exit roots ``(e1, e2)`` of a quartic in ``(0, hi]`` (inf padded)."""
     if c4 == 0.0:
         return cubic_exits(c0, c1, c2, c3, hi)
+    if hi < INF and surely_positive(c0, c1, c2, c3, c4, hi):
+        return INF, INF
+    if hi < INF and c0 > 0.0 and c4 > 0.0 and surely_convex(c2, c3, c4, hi):
+        t = convex_first_exit(c0, c1, c2, c3, c4, hi)
+        if t >= 0.0:
+            return t, INF
     if hi == INF:
         hi = cauchy_bound(c0, c1, c2, c3, c4, 4)
     k1, k2, k3 = cubic_roots_in(c1, 2.0 * c2, 3.0 * c3, 4.0 * c4, 0.0, hi)
