@@ -57,9 +57,46 @@ def exit_roots(kind, c0, c1, c2, c3, c4, has_force, deflate, hi):
     return quadratic_exit(c0, c1, c2, hi), INF
 
 
-@jit
+@jit(inline="always")  # inlined at the call sites: a call per element costs more than its work
+def straight_hit_time(kind, p, x, y, vx, vy, deflate, hi, extent_tol):
+    """:func:`element_hit_time` for a straight flight (no force): the lean path.
+
+    The same floating-point operations as the general path (so the same
+    hits, bit for bit) without the cubic and quartic machinery; an element
+    the flight moves away from is dropped before its distance is formed.
+    """
+    if kind == LINE or kind == SEGMENT:
+        if deflate:  # a line is not met again after t = 0
+            return INF
+        c1 = vx * p[2] + vy * p[3]
+        if not c1 < 0.0:
+            return INF
+        t = linear_exit((x - p[0]) * p[2] + (y - p[1]) * p[3], c1, hi)
+    else:
+        dx = x - p[0]
+        dy = y - p[1]
+        sig = p[3]
+        c1 = sig * 2.0 * (dx * vx + dy * vy)
+        c2 = sig * (vx * vx + vy * vy)
+        if deflate:
+            t = linear_exit(c1, c2, hi)
+        else:
+            r = p[2]
+            c0 = sig * ((dx * dx + dy * dy) - r * r)
+            if c2 > 0.0 and c0 > 0.0 and c1 >= 0.0:  # both roots negative: moving away
+                return INF
+            t = quadratic_exit(c0, c1, c2, hi)
+    if t != INF and (kind == SEGMENT or kind == ARC):
+        if extent_position(kind, p, x + t * vx, y + t * vy, extent_tol) < 0:
+            return INF
+    return t
+
+
+@jit(inline="always")
 def element_hit_time(kind, p, x, y, vx, vy, ax, ay, has_force, deflate, hi, extent_tol):
     """First time in ``(0, hi]`` at which the flight leaves the table through this element, or inf."""
+    if not has_force:
+        return straight_hit_time(kind, p, x, y, vx, vy, deflate, hi, extent_tol)
     c0, c1, c2, c3, c4 = crossing_coefficients(kind, p, x, y, vx, vy, ax, ay)
     e1, e2 = exit_roots(kind, c0, c1, c2, c3, c4, has_force, deflate, hi)
     if kind != SEGMENT and kind != ARC:
@@ -74,7 +111,7 @@ def element_hit_time(kind, p, x, y, vx, vy, ax, ay, has_force, deflate, hi, exte
     return INF
 
 
-@jit
+@jit(inline="always")
 def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_force,
                 cur_e, cur_o1, cur_o2, hi, extent_tol, t_in):
     """Earliest hit in ``(0, hi]`` over the element copies that reach cell ``(d1, d2)``.
@@ -92,8 +129,9 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_forc
     vxi = vx + ax * t_in
     vyi = vy + ay * t_in
     # a bounded window: the arc lies in the hull of its Bezier control points, so a
-    # copy whose box misses the hull's box cannot be hit in it
-    bounded = hi < INF
+    # copy whose box misses the hull's box cannot be hit in it (straight flights
+    # skip the filter: their exit test is about as cheap)
+    bounded = hi < INF and has_force
     bx0 = -INF
     by0 = -INF
     bx1 = INF
@@ -135,6 +173,23 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_forc
     if best_e < 0:
         return INF, -1, 0, 0
     return best_t, best_e, best_o1, best_o2
+
+
+@jit
+def straight_hit(kinds, params, copies, x, y, vx, vy, cur_e, extent_tol):
+    """:func:`hit_in_cell` for a plain scene without force: no lattice offsets, no re-centring, no hull.
+
+    Returns ``(t, element)`` or ``(inf, -1)``; the same hit as the general path.
+    """
+    best_t = INF
+    best_e = -1
+    for k in range(copies.shape[0]):
+        e = copies[k, 0]
+        t = straight_hit_time(kinds[e], params[e], x, y, vx, vy, e == cur_e, best_t, extent_tol)
+        if t < best_t or (best_e < 0 and t == best_t and t < INF):
+            best_t = t
+            best_e = e
+    return best_t, best_e
 
 
 @jit
