@@ -176,23 +176,6 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_forc
 
 
 @jit
-def straight_hit(kinds, params, copies, x, y, vx, vy, cur_e, extent_tol):
-    """:func:`hit_in_cell` for a plain scene without force: no lattice offsets, no re-centring, no hull.
-
-    Returns ``(t, element)`` or ``(inf, -1)``; the same hit as the general path.
-    """
-    best_t = INF
-    best_e = -1
-    for k in range(copies.shape[0]):
-        e = copies[k, 0]
-        t = straight_hit_time(kinds[e], params[e], x, y, vx, vy, e == cur_e, best_t, extent_tol)
-        if t < best_t or (best_e < 0 and t == best_t and t < INF):
-            best_t = t
-            best_e = e
-    return best_t, best_e
-
-
-@jit
 def leaves_through_contact(kind, p, x, y, vx, vy, ax, ay, tol):
     """True if a particle at ``(x, y)`` touches this element and is moving out through it.
 

@@ -25,7 +25,7 @@ import math
 import numpy as np
 
 from .cells import walk_hit
-from .events import flight_position, hit_in_cell, leaves_through_contact, slides_off, straight_hit
+from .events import flight_position, hit_in_cell, leaves_through_contact, slides_off
 from .geometry import arclength, lattice_shift, place_on_element
 from .jit import jit
 from .laws import collide
@@ -133,7 +133,6 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None):
     LATTICE = bool(lattice)
     MODE_RT = mode is None
     MODE = RECORD_LOG if mode is None else int(mode)
-    STRAIGHT = force is False and lattice is False  # plain scene, straight flights: the lean hit search
 
     @jit
     def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, x, y, vx, vy, w,
@@ -215,11 +214,6 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None):
                                                     has_force, cur_e, cur_o1, cur_o2, limit, extent_tol,
                                                     MAX_CELLS_PER_FLIGHT)
                 escape = status == 2 or (status == 1 and limit == INF)
-            elif STRAIGHT:
-                t_hit, e = straight_hit(kinds, params, copies, x, y, vx, vy, cur_e, extent_tol)
-                o1 = 0
-                o2 = 0
-                escape = e < 0  # no element ahead: the orbit leaves for good
             else:
                 t_hit, e, o1, o2 = hit_in_cell(kinds, params, copies, A, 0, 0, x, y, vx, vy, ax, ay,
                                                has_force, cur_e, cur_o1, cur_o2, INF, extent_tol, 0.0)

@@ -1,0 +1,291 @@
+"""Ablation of the event-loop specialisations (issue: pay only for what a scene needs, measured).
+
+``orbit_kernel(force, spin, lattice, mode)`` fixes each flag at compile time
+(``None`` = read it from the arguments: the general path).  Each row times one
+orbit of ~2e6 collisions (best of three, after a compile warm-up) with a
+baseline kernel and a specialised one on the SAME scene and start, and checks
+that the two final states (all 12 outputs of the kernel) are bitwise equal.
+
+Sections:
+
+* straight flights: pentagon and Sinai box, specular and no-slip, through the
+  force code (``force=True`` on a zero force: exact-zero leading coefficients,
+  so the same roots) against the scene's own variant;
+* per flag: the same scenes, each flag specialised alone (the others
+  ``None``), force and lattice together, and all of them;
+* no spin bookkeeping: specular tables, ``spin=None`` vs ``spin=False`` with the
+  other flags already fixed;
+* lean recorder: ``RECORD_LOG`` (full log array) vs ``RECORD_NONE`` on the same
+  kernel (``n_rec`` differs by design; the other 11 outputs must not);
+* force: circle under gravity and the Galton board (lattice, force);
+* neighbour-cell lookup: Sinai torus r = 0.25 as a lattice vs the same disks
+  written out as a 61 x 61 block of explicit ``Circle`` copies (no enclosing box:
+  the explicit orbit is timed until it escapes the block).  Positions are
+  re-centred per cell on the lattice, so results agree to rounding, not
+  bitwise; and since the Sinai billiard is chaotic (rounding differences grow
+  ~10x per collision) a whole-orbit comparison can only agree for the first
+  few collisions.  The check is therefore per flight, as in
+  ``tests/test_lattice.py``: the explicit scene is restarted from the
+  lattice state after each of the first 1000 collisions and must hit the same
+  disk (element + cell) at the same time and place to 1e-9.
+
+Run: ``python benchmarks/ablation.py`` (writes ``benchmarks/results/ablation.md`` too).
+"""
+import datetime
+import math
+import os
+import platform
+import sys
+import time
+
+import numpy as np
+
+from noslipsim import Circle, Scene, tables
+from noslipsim.core import layout
+from noslipsim.core.loop import orbit_kernel
+from noslipsim.simulate import start_cell
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from machine import cpu_model  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+OUT = os.path.join(HERE, "results", "ablation.md")
+N = 2_000_000
+REPEAT = 3
+NONE, LOG = layout.RECORD_NONE, layout.RECORD_LOG
+
+PENTAGON = tables.regular_polygon(5)
+SINAI_BOX = tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)])
+CIRCLE_G = Scene([Circle((0.0, 0.0), 1.0, "inside")], force=(0.0, -1.0))
+GALTON = tables.galton_board(2.0, 0.5, 1.0)
+TORUS = tables.sinai_torus(0.25)
+
+STARTS = {  # scene name -> start (q, v, w)
+    "pentagon": ((0.1, 0.05), (0.83, 0.41), 0.1),
+    "Sinai box": ((0.1, 0.1), (0.6, 0.8), 0.1),
+    "circle + gravity": ((0.1, 0.2), (0.4, 0.1), 0.1),
+    "Galton board": ((1.0, 0.0), (0.3, 0.95), 0.1),
+    "Sinai torus r=0.25": ((0.45, 0.1), (0.83, 0.41), 0.1),
+}
+
+
+def label(flags):
+    """``orbit_kernel(...)`` call text for a flag tuple."""
+    if all(f is None for f in flags):
+        return "general"
+    names = ("force", "spin", "lattice", "mode")
+    modes = {NONE: "NONE", LOG: "LOG", layout.RECORD_PORTRAIT: "PORTRAIT"}
+    parts = [f"{n}={modes[f] if n == 'mode' else f}" for n, f in zip(names, flags) if f is not None]
+    return ", ".join(parts)
+
+
+class Orbit:
+    """One scene and start, ready to be run by any kernel variant."""
+
+    def __init__(self, scene, q, v, w):
+        self.scene = scene
+        self.inputs = scene.kernel_inputs()
+        _, origin, r = start_cell(scene, np.asarray(q, float))
+        self.origin = origin
+        c, s = scene.noslip_coefficients
+        ax, ay = scene.force
+        self.head = (*self.inputs, scene.law_code, c, s, ax, ay, float(r[0]), float(r[1]), v[0], v[1], w)
+        self.mask = np.zeros(len(self.inputs[0]), dtype=np.bool_)
+
+    def run(self, kernel, n, mode, rec=None, start_element=-1):
+        if rec is None:
+            rec = np.zeros((0, layout.N_LOG))
+        return kernel(*self.head, n, math.inf, -math.inf, self.scene.scale, mode, rec, self.mask, start_element)
+
+
+def bits(out, skip=()):
+    """The outputs as int64 bit patterns (float64 holds every count and cell index exactly)."""
+    return np.array([o for i, o in enumerate(out) if i not in skip], dtype=np.float64).view(np.int64)
+
+
+def timed(orbit, runs):
+    """Best rates over REPEAT interleaved runs of N collisions, and the final states.
+
+    ``runs``: ``(kernel, mode)`` pairs; a RECORD_LOG run gets a log array of every collision.
+    """
+    recs = [np.zeros((N if mode == LOG else 0, layout.N_LOG)) for _, mode in runs]
+    for (kernel, mode), rec in zip(runs, recs):
+        orbit.run(kernel, 10, mode, rec)  # compile (or load from the cache)
+    best = [0.0] * len(runs)
+    outs = [None] * len(runs)
+    for _ in range(REPEAT):
+        for i, ((kernel, mode), rec) in enumerate(zip(runs, recs)):
+            t0 = time.perf_counter()
+            outs[i] = orbit.run(kernel, N, mode, rec)
+            dt = time.perf_counter() - t0
+            best[i] = max(best[i], outs[i][0] / dt)
+    return best, outs
+
+
+def compare(rows, section, name, scene, base, variant, base_mode=NONE, var_mode=NONE):
+    """Time ``base`` and ``variant`` (flag tuples) on one scene and start; append a table row."""
+    orbit = Orbit(scene, *STARTS[name])
+    (rate_b, rate_v), (out_b, out_v) = timed(orbit, [(orbit_kernel(*base), base_mode),
+                                                     (orbit_kernel(*variant), var_mode)])
+    skip = (3,) if base_mode != var_mode else ()  # n_rec counts the log rows: differs by design
+    same = np.array_equal(bits(out_b, skip), bits(out_v, skip))
+    same_txt = "yes" if same else "**NO**"
+    if out_b[0] != N:
+        same_txt += f" (stop {layout.STOP_REASONS[out_b[1]]} at n={out_b[0]})"
+    if skip:
+        same_txt += " (11/12 outputs: n_rec differs by design)"
+    mode_txt = {NONE: "", LOG: " [LOG]"}
+    rows.append((section, f"{name}, {scene.law}", label(base) + mode_txt[base_mode],
+                 label(variant) + mode_txt[var_mode], rate_b, rate_v, same_txt))
+    print(fmt_row(rows[-1]), flush=True)
+
+
+def fmt_row(r):
+    section, scene, base, var, rb, rv, same = r
+    return f"| {section} | {scene} | {base} | {var} | {rb:,.0f} | {rv:,.0f} | {rv / rb:.2f} | {same} |"
+
+
+HEADER = ("| gain | scene, law | baseline | specialised | baseline coll/s | specialised coll/s | speed-up "
+          "| identical |\n|---|---|---|---|---:|---:|---:|---|")
+
+
+def explicit_block(scene, half):
+    """The lattice scene written out as ``(2 half + 1)^2`` explicit copies (cell (i, j) -> element index)."""
+    A = np.array([scene.lattice["a1"], scene.lattice["a2"]]).T
+    cells = [(i, j) for i in range(-half, half + 1) for j in range(-half, half + 1)]
+    elems = [e.shifted(*(A @ [i, j])) for i, j in cells for e in scene.elements]
+    return Scene(tuple(elems), law=scene.law, gamma=scene.gamma, force=scene.force), np.array(cells)
+
+
+def neighbour_cells(rows, law, half=30, n_check=1000):
+    """Lattice cell walk vs explicit copies: rates, and the per-flight check of the first collisions."""
+    name = "Sinai torus r=0.25"
+    lat = TORUS.replace(law=law)
+    flat, cells = explicit_block(lat, half)
+    q, v, w = STARTS[name]
+    lat_orbit = Orbit(lat, q, v, w)
+    flat_orbit = Orbit(flat, q, v, w)
+    assert np.all(lat_orbit.origin == 0.0)  # both start in cell (0, 0): same coordinates
+    k_lat = orbit_kernel(*lat.kernel_variant(NONE))
+    k_flat = orbit_kernel(*flat.kernel_variant(NONE))
+    (rate_lat,), _ = timed(lat_orbit, [(k_lat, NONE)])
+    # explicit copies: until the orbit leaves the block (escape), best of REPEAT
+    flat_orbit.run(k_flat, 10, NONE)
+    rate_flat, n_flat = 0.0, 0
+    for _ in range(REPEAT):
+        t0 = time.perf_counter()
+        out = flat_orbit.run(k_flat, 10**7, NONE)
+        dt = time.perf_counter() - t0
+        rate_flat, n_flat = max(rate_flat, out[0] / dt), out[0]
+        stop_flat = layout.STOP_REASONS[out[1]]
+
+    # the lattice orbit, logged (cell (0, 0) start: log positions are absolute)
+    log = np.zeros((n_check + 1, layout.N_LOG))
+    lat_orbit.run(orbit_kernel(*lat.kernel_variant(LOG)), n_check + 1, LOG, log)
+    index = {tuple(c): k for k, c in enumerate(cells)}  # one element per cell here
+    k_flat_log = orbit_kernel(*flat.kernel_variant(LOG))
+    one = np.zeros((1, layout.N_LOG))
+    checked = agree = 0
+    worst = 0.0
+    for k in range(n_check):
+        a, b = log[k], log[k + 1]
+        here = (int(a[layout.LOG_CELL_A1]), int(a[layout.LOG_CELL_A2]))
+        there = (int(b[layout.LOG_CELL_A1]), int(b[layout.LOG_CELL_A2]))
+        if max(map(abs, here + there)) >= half:  # the flight leaves the explicit block
+            continue
+        checked += 1
+        # restart on the disk just hit, with the lattice's outgoing state (the t = 0 root deflated)
+        start = Orbit(flat, (a[layout.LOG_X], a[layout.LOG_Y]), (a[layout.LOG_VX], a[layout.LOG_VY]),
+                      a[layout.LOG_W])
+        one[:] = 0.0
+        out = start.run(k_flat_log, 1, LOG, one, start_element=index[here])
+        hit = tuple(cells[int(one[0, layout.LOG_ELEMENT])])
+        dev = max(abs(one[0, layout.LOG_T] - (b[layout.LOG_T] - a[layout.LOG_T])),
+                  abs(one[0, layout.LOG_X] - b[layout.LOG_X]), abs(one[0, layout.LOG_Y] - b[layout.LOG_Y]),
+                  abs(one[0, layout.LOG_VX] - b[layout.LOG_VX]), abs(one[0, layout.LOG_VY] - b[layout.LOG_VY]),
+                  abs(one[0, layout.LOG_W] - b[layout.LOG_W]))
+        ok = out[0] == 1 and hit == there and dev <= 1e-9
+        agree += ok
+        worst = max(worst, dev)
+
+    # whole orbit, for the record: how long do the two computations stay together?
+    flat_log = np.zeros((n_check + 1, layout.N_LOG))
+    flat_orbit.run(k_flat_log, n_check + 1, LOG, flat_log)
+    together = 0
+    for a, b in zip(log, flat_log):
+        same_disk = tuple(cells[int(b[layout.LOG_ELEMENT])]) == (int(a[layout.LOG_CELL_A1]),
+                                                                 int(a[layout.LOG_CELL_A2]))
+        if not (same_disk and abs(a[layout.LOG_T] - b[layout.LOG_T]) <= 1e-9):
+            break
+        together += 1
+
+    same_txt = (f"per flight: {agree}/{checked} agree (max dev {worst:.1e}); "
+                f"whole orbit: first {together} collisions within 1e-9")
+    rows.append(("neighbour-cell lookup", f"{name}, {law}",
+                 f"explicit {2 * half + 1}x{2 * half + 1} copies, {label(flat.kernel_variant(NONE))} "
+                 f"({n_flat} coll. until {stop_flat})",
+                 f"lattice, {label(lat.kernel_variant(NONE))}", rate_flat, rate_lat, same_txt))
+    print(fmt_row(rows[-1]), flush=True)
+
+
+def main():
+    machine = (f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python "
+               f"{platform.python_version()} | numpy {np.__version__}")
+    print(machine)
+    print(f"collisions/s of one orbit of {N:,} collisions, best of {REPEAT}, after a compile warm-up\n")
+    print(HEADER, flush=True)
+    rows = []
+    G = (None, None, None, None)
+    # straight flights, per flag
+    for name, base in (("pentagon", PENTAGON), ("Sinai box", SINAI_BOX)):
+        for law in ("specular", "no-slip"):
+            scene = base.replace(law=law)
+            f, s, l, m = scene.kernel_variant(NONE)
+            # what straight flights buy: the same scene through the force code (degree 4 and 3,
+            # leading coefficients exactly zero) against its own variant
+            compare(rows, "straight flights", name, scene, (True, s, l, m), (f, s, l, m))
+            for variant in ((f, None, None, None), (None, s, None, None), (None, None, l, None),
+                            (None, None, None, m), (f, None, l, None), (f, s, l, m)):
+                compare(rows, "per flag", name, scene, G, variant)
+    # no spin bookkeeping (specular), on top of the other specialisations
+    for name, base in (("Sinai box", SINAI_BOX), ("pentagon", PENTAGON)):
+        scene = base.replace(law="specular")
+        compare(rows, "no spin bookkeeping", name, scene, (False, None, False, NONE), (False, False, False, NONE))
+    # lean recorder: same kernel, full log vs nothing; and general (runtime mode) vs specialised
+    for name, scene in (("Sinai box", SINAI_BOX), ("pentagon", PENTAGON.replace(law="specular")),
+                        ("Galton board", GALTON)):
+        compare(rows, "lean recorder", name, scene, G, G, LOG, NONE)
+        compare(rows, "lean recorder", name, scene, scene.kernel_variant(LOG), scene.kernel_variant(NONE), LOG, NONE)
+    # force
+    for name, base in (("circle + gravity", CIRCLE_G), ("Galton board", GALTON)):
+        for law in ("no-slip", "specular"):
+            scene = base.replace(law=law)
+            f, s, l, m = scene.kernel_variant(NONE)
+            for variant in ((f, None, None, None), (None, None, l, None), (f, s, l, m)):
+                compare(rows, "force", name, scene, G, variant)
+    # lattice: the cell walk vs explicit copies
+    for law in ("no-slip", "specular"):
+        neighbour_cells(rows, law)
+
+    when = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
+    with open(OUT, "w", encoding="utf-8") as fh:
+        fh.write("# Ablation: what each event-loop specialisation buys\n\n")
+        fh.write(f"Command: `python benchmarks/ablation.py` ({when})\n\n{machine}\n\n")
+        fh.write(f"Collisions/s of one orbit of {N:,} collisions (best of {REPEAT}, after a compile warm-up); "
+                 "baseline and specialised kernel on the same scene and start. 'identical': the 12 kernel outputs "
+                 "(counts, stop code, final time, position, velocity, spin, cell) are bitwise equal. "
+                 "'general' = `orbit_kernel()`; a flag list = `orbit_kernel(...)` with the other flags None "
+                 "(read at run time); [LOG] = run with RECORD_LOG and a log array of every collision. "
+                 "Neighbour-cell rows compare the lattice (cell walk) with a plain scene of explicit disk copies: "
+                 "rounding differs (positions re-centred per cell), so the check is per flight (explicit scene "
+                 "restarted from the lattice state after each of the first 1000 collisions, same disk + cell, "
+                 "time, position, velocity, spin within 1e-9); the whole orbits part after a few collisions "
+                 "because the billiard is chaotic.\n\n")
+        fh.write(HEADER + "\n")
+        for r in rows:
+            fh.write(fmt_row(r) + "\n")
+    print(f"\nwritten to {os.path.relpath(OUT)}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,147 @@
+"""Specialised event loops give the general path's results, bit for bit (issue: pay only for what a scene needs).
+
+``orbit_kernel(force, spin, lattice, mode)`` fixes flags at compile time;
+``None`` reads them from the arguments.  On each scene every variant the scene
+can use (each flag fixed to the scene's value or left ``None``) must return the
+same 12 outputs and the same record rows as ``orbit_kernel()`` over 20,000
+collisions.  The default run checks the scene's own variant and each flag fixed
+alone; ``-m stress`` checks every subset (81 compiled variants in all).
+"""
+import functools
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+from noslipsim import Circle, Scene, tables
+from noslipsim.core import layout
+from noslipsim.core.loop import orbit_kernel, run_orbit
+from noslipsim.simulate import start_cell
+
+N_COLL = 20_000
+NONE, LOG, PORTRAIT = layout.RECORD_NONE, layout.RECORD_LOG, layout.RECORD_PORTRAIT
+MODES = {"none": NONE, "log": LOG, "portrait": PORTRAIT}
+
+SCENES = {  # name -> (scene, start position, velocity, spin)
+    "pentagon": (tables.regular_polygon(5), (0.1, 0.05), (0.83, 0.41), 0.1),
+    "sinai_box": (tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)]), (0.1, 0.1), (0.6, 0.8), 0.1),
+    "circle_gravity": (Scene([Circle((0.0, 0.0), 1.0, "inside")], force=(0.0, -1.0)), (0.1, 0.2), (0.4, 0.1), 0.1),
+    "galton": (tables.galton_board(2.0, 0.5, 1.0), (1.0, 0.0), (0.3, 0.95), 0.1),
+    "sinai_torus": (tables.sinai_torus(0.25), (0.45, 0.1), (0.83, 0.41), 0.1),
+}
+LAWS = ("specular", "no-slip")
+CASES = [(name, law) for name in SCENES for law in LAWS]
+
+ALL_SUBSETS = [s for k in range(1, 5) for s in itertools.combinations(range(4), k)]
+FAST_SUBSETS = [(0, 1, 2, 3), (0,), (1,), (2,), (3,)]
+STRESS_SUBSETS = [s for s in ALL_SUBSETS if s not in FAST_SUBSETS]
+
+
+def scene_of(name, law):
+    scene, q, v, w = SCENES[name]
+    return scene.replace(law=law), q, v, w
+
+
+def run(kernel, name, law, mode, start=None):
+    """Run ``kernel`` on a scene and start; returns the 12 outputs and the whole record array."""
+    scene, q, v, w = scene_of(name, law)
+    if start is not None:
+        q = start
+    kinds, params, copies, A, B, lattice, jstart, jpts = scene.kernel_inputs()
+    _, _, r = start_cell(scene, np.asarray(q, float))
+    c, s = scene.noslip_coefficients
+    ax, ay = scene.force
+    width = layout.N_PORTRAIT if mode == PORTRAIT else layout.N_LOG
+    rec = np.full((N_COLL + 1 if mode != NONE else 0, width), -7.0)  # sentinel: unwritten rows must stay so
+    mask = np.arange(len(kinds)) % 2 == 0  # portrait: even elements (all of a one-element scene)
+    out = kernel(kinds, params, copies, A, B, lattice, jstart, jpts, scene.law_code, c, s, ax, ay,
+                 float(r[0]), float(r[1]), v[0], v[1], w, N_COLL, math.inf, -math.inf, scene.scale, mode, rec, mask)
+    return out, rec
+
+
+def bits(values):
+    """Bit patterns (int64) of outputs or records: equality here is bitwise (signed zeros, NaNs)."""
+    return np.asarray(values, dtype=np.float64).view(np.int64)
+
+
+@functools.lru_cache(maxsize=None)
+def general(name, law, mode):
+    out, rec = run(run_orbit, name, law, mode)
+    # the comparison must not be vacuous: a full-length orbit, and records actually written
+    assert out[0] == N_COLL and out[1] == layout.STOP_MAX_COLLISIONS, (name, law, out[:2])
+    if mode == LOG:
+        assert out[3] == N_COLL
+    elif mode == PORTRAIT:
+        assert out[3] > 100
+    else:
+        assert out[3] == 0
+    return out, rec
+
+
+def variant_flags(name, law, mode, subset):
+    """The scene's flags fixed in ``subset`` (slot indices), the others left None."""
+    needs = scene_of(name, law)[0].kernel_variant(mode)
+    return tuple(f if i in subset else None for i, f in enumerate(needs))
+
+
+def check_identical(name, law, mode_name, subset):
+    mode = MODES[mode_name]
+    flags = variant_flags(name, law, mode, subset)
+    kernel = orbit_kernel(*flags)
+    assert kernel is not run_orbit  # a specialised kernel indeed
+    out_g, rec_g = general(name, law, mode)
+    out_v, rec_v = run(kernel, name, law, mode)
+    assert np.array_equal(bits(out_v), bits(out_g)), (flags, out_v, out_g)
+    if mode != NONE:
+        diff = np.flatnonzero(np.any(bits(rec_v) != bits(rec_g), axis=1))
+        assert diff.size == 0, f"{flags}: record rows differ from row {diff[:1]}"
+
+
+@pytest.mark.parametrize("subset", FAST_SUBSETS, ids=lambda s: "fix" + "".join(map(str, s)))
+@pytest.mark.parametrize("mode_name", sorted(MODES))
+@pytest.mark.parametrize("name,law", CASES)
+def test_variant_bitwise_identical_to_general(name, law, mode_name, subset):
+    check_identical(name, law, mode_name, subset)
+
+
+@pytest.mark.stress
+@pytest.mark.parametrize("subset", STRESS_SUBSETS, ids=lambda s: "fix" + "".join(map(str, s)))
+@pytest.mark.parametrize("mode_name", sorted(MODES))
+@pytest.mark.parametrize("name,law", CASES)
+def test_every_partial_variant_bitwise_identical_to_general(name, law, mode_name, subset):
+    check_identical(name, law, mode_name, subset)
+
+
+def test_comparison_sees_one_ulp_and_a_wrong_law():
+    """The identity checks above are sharp: a start one ulp off, or a variant for
+    another scene (spin=False forces the specular law), gives other outputs."""
+    out_g, rec_g = general("sinai_box", "no-slip", LOG)
+    q = SCENES["sinai_box"][1]
+    nudged = run(run_orbit, "sinai_box", "no-slip", LOG, start=(np.nextafter(q[0], 1.0), q[1]))[0]
+    assert not np.array_equal(bits(nudged), bits(out_g))
+    wrong, rec_w = run(orbit_kernel(None, False, None, None), "pentagon", "no-slip", LOG)
+    out_p, rec_p = general("pentagon", "no-slip", LOG)
+    assert not np.array_equal(bits(wrong), bits(out_p))
+    assert np.all(rec_w[:100, layout.LOG_W] == rec_w[0, layout.LOG_W])  # specular: spin never changes
+    assert np.any(rec_p[:100, layout.LOG_W] != rec_p[0, layout.LOG_W])
+
+
+@pytest.mark.parametrize("mode", [NONE, LOG, PORTRAIT])
+@pytest.mark.parametrize("name,law", CASES)
+def test_kernel_variant_asks_only_for_what_the_scene_needs(name, law, mode):
+    scene = scene_of(name, law)[0]
+    force, spin, lattice, m = scene.kernel_variant(mode)
+    # exact bools: orbit_kernel tells "fixed False" from "read at run time" by identity (``is False``)
+    assert all(f is True or f is False for f in (force, spin, lattice))
+    assert force is (name in ("circle_gravity", "galton"))
+    assert spin is (law == "no-slip")
+    assert lattice is (name in ("galton", "sinai_torus"))
+    assert m == mode and type(m) is int
+
+
+@pytest.mark.parametrize("force,has", [((0.0, 0.0), False), ((0.0, -0.0), False), ((-0.0, -0.0), False),
+                                       ((0.0, 1e-300), True), ((-2.0, 0.0), True)])
+def test_force_flag_is_false_exactly_for_zero_force(force, has):
+    scene = tables.regular_polygon(5, force=force)
+    assert scene.kernel_variant(NONE)[0] is has
