@@ -112,6 +112,8 @@ def quadratic_exit(c0, c1, c2, hi):
     """Exit root of ``c0 + c1 t + c2 t^2`` in ``(0, hi]`` or inf (a quadratic has at most one)."""
     if c2 == 0.0:
         return linear_exit(c0, c1, hi)
+    if c0 > 0.0 and c1 >= 0.0 and c2 > 0.0:  # both roots negative or complex: no square root needed
+        return INF
     n, r1, r2 = quadratic_roots(c0, c1, c2)
     if n < 2:  # no root or a tangency: the flight never leaves
         return INF
