@@ -1,0 +1,74 @@
+"""What numba's reference-counting runtime costs the event loop (issue: pay only for what a scene needs).
+
+The kernels are compiled without it (``core/jit.py``: ``_nrt=False``); setting
+``NOSLIPSIM_NUMBA_NRT=1`` compiles them with it, uncached, so the two can be
+timed on the same machine.  Each configuration runs in its own process: the
+scene's own kernel variant, no record, one orbit per scene (best of three after
+a compile warm-up), and the final states must be bitwise equal (the runtime
+only owns memory; it does not touch arithmetic).
+Run: ``python benchmarks/bench_runtime.py``.
+"""
+import json
+import os
+import platform
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from machine import cpu_model  # noqa: E402
+
+CHILD = r"""
+import json, math, sys, time
+import numpy as np
+from noslipsim import tables
+from noslipsim.core import layout
+from noslipsim.core.loop import orbit_kernel
+scenes = {
+    "pentagon": (tables.regular_polygon(5), (0.1, 0.05), (0.83, 0.41), 2_000_000),
+    "Sinai box": (tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)]), (0.1, 0.1), (0.6, 0.8), 2_000_000),
+    "Sinai torus": (tables.sinai_torus(0.25), (0.45, 0.1), (0.6, 0.8), 1_000_000),
+    "Galton board": (tables.galton_board(2.0, 0.5, 1.0), (1.0, 0.0), (0.6, 0.8), 300_000),
+}
+out = {}
+for name, (scene, q, v, n) in scenes.items():
+    inputs = scene.kernel_inputs()
+    c, s = scene.noslip_coefficients
+    ax, ay = scene.force
+    rec = np.zeros((0, layout.N_LOG))
+    mask = np.zeros(len(inputs[0]), dtype=np.bool_)
+    run = orbit_kernel(*scene.kernel_variant(layout.RECORD_NONE))
+    args = (*inputs, scene.law_code, c, s, ax, ay, q[0], q[1], v[0], v[1], 0.1)
+    run(*args, 10, math.inf, -math.inf, scene.scale, layout.RECORD_NONE, rec, mask)
+    best = 0.0
+    for _ in range(3):
+        t0 = time.perf_counter()
+        res = run(*args, n, math.inf, -math.inf, scene.scale, layout.RECORD_NONE, rec, mask)
+        best = max(best, res[0] / (time.perf_counter() - t0))
+    out[name] = (best, np.asarray(res, dtype=np.float64).view(np.int64).tolist())
+print(json.dumps(out))
+"""
+
+
+def measure(with_runtime):
+    env = dict(os.environ)
+    env.pop("NOSLIPSIM_NUMBA_NRT", None)
+    if with_runtime:
+        env["NOSLIPSIM_NUMBA_NRT"] = "1"
+    done = subprocess.run([sys.executable, "-c", CHILD], env=env, capture_output=True, text=True, check=True)
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def main():
+    print(f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python {platform.python_version()}")
+    lean = measure(False)
+    full = measure(True)
+    print(f"{'scene':<14}{'with runtime coll/s':>22}{'without (shipped)':>20}{'gain':>8}  identical")
+    for name in lean:
+        (r0, b0), (r1, b1) = full[name], lean[name]
+        print(f"{name:<14}{r0:>22,.0f}{r1:>20,.0f}{r1 / r0:>7.2f}x  {b0 == b1}")
+        if b0 != b1:
+            raise SystemExit(f"{name}: final states differ with and without the runtime")
+
+
+if __name__ == "__main__":
+    main()
