@@ -72,7 +72,13 @@ def _face_time(alpha0, alpha1, face, t_in):
 @jit
 def _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
                    cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells):
-    """:func:`walk_hit` for a flight without force: the incremental grid walk."""
+    """:func:`walk_hit` for a flight without force: the incremental grid walk.
+
+    ``alpha(t) = a0 + a1 t`` and ``beta(t) = b0 + b1 t`` are the flight's lattice
+    coordinates.  Cell ``(d1, d2)`` is left through the face ``d1 + s1/2`` (``s1``
+    the sign of ``a1``) or ``d2 + s2/2``, whichever comes first; on a tie both
+    indices step (a flight through a lattice point).
+    """
     s1 = 1 if a1 > 0.0 else -1
     s2 = 1 if b1 > 0.0 else -1
     d1 = 0
