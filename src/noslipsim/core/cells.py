@@ -116,13 +116,13 @@ def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
     # lattice coordinates along the flight: alpha(t) = B[0].q(t), beta(t) = B[1].q(t)
     a0 = B[0, 0] * x + B[0, 1] * y
     a1 = B[0, 0] * vx + B[0, 1] * vy
-    a2 = 0.5 * (B[0, 0] * ax + B[0, 1] * ay)
     b0 = B[1, 0] * x + B[1, 1] * y
     b1 = B[1, 0] * vx + B[1, 1] * vy
-    b2 = 0.5 * (B[1, 0] * ax + B[1, 1] * ay)
     if not has_force:
         return _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
                               cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells)
+    a2 = 0.5 * (B[0, 0] * ax + B[0, 1] * ay)
+    b2 = 0.5 * (B[1, 0] * ax + B[1, 1] * ay)
     d1 = 0
     d2 = 0
     t_in = 0.0
