@@ -18,11 +18,11 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from machine import cpu_model  # noqa: E402
 
 CHILD = r"""
-import json, math, sys, time
+import json, sys
 import numpy as np
+sys.path.insert(0, sys.argv[1])
+from bench_collisions import kernel_rate
 from noslipsim import tables
-from noslipsim.core import layout
-from noslipsim.core.loop import orbit_kernel
 scenes = {
     "pentagon": (tables.regular_polygon(5), (0.1, 0.05), (0.83, 0.41), 2_000_000),
     "Sinai box": (tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)]), (0.1, 0.1), (0.6, 0.8), 2_000_000),
@@ -31,20 +31,8 @@ scenes = {
 }
 out = {}
 for name, (scene, q, v, n) in scenes.items():
-    inputs = scene.kernel_inputs()
-    c, s = scene.noslip_coefficients
-    ax, ay = scene.force
-    rec = np.zeros((0, layout.N_LOG))
-    mask = np.zeros(len(inputs[0]), dtype=np.bool_)
-    run = orbit_kernel(*scene.kernel_variant(layout.RECORD_NONE))
-    args = (*inputs, scene.law_code, c, s, ax, ay, q[0], q[1], v[0], v[1], 0.1)
-    run(*args, 10, math.inf, -math.inf, scene.scale, layout.RECORD_NONE, rec, mask)
-    best = 0.0
-    for _ in range(3):
-        t0 = time.perf_counter()
-        res = run(*args, n, math.inf, -math.inf, scene.scale, layout.RECORD_NONE, rec, mask)
-        best = max(best, res[0] / (time.perf_counter() - t0))
-    out[name] = (best, np.asarray(res, dtype=np.float64).view(np.int64).tolist())
+    rate, res = kernel_rate(scene, q, v, n, repeat=3)
+    out[name] = (rate, np.asarray(res, dtype=np.float64).view(np.int64).tolist())
 print(json.dumps(out))
 """
 
@@ -54,7 +42,8 @@ def measure(with_runtime):
     env.pop("NOSLIPSIM_NUMBA_NRT", None)
     if with_runtime:
         env["NOSLIPSIM_NUMBA_NRT"] = "1"
-    done = subprocess.run([sys.executable, "-c", CHILD], env=env, capture_output=True, text=True, check=True)
+    here = os.path.dirname(os.path.abspath(__file__))
+    done = subprocess.run([sys.executable, "-c", CHILD, here], env=env, capture_output=True, text=True, check=True)
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
