@@ -13,11 +13,12 @@ or quartic.
 import math
 
 from .geometry import (
+    copy_shift,
     crossing_coefficients,
+    crossing_slope,
     distance_rate,
     element_box,
     extent_position,
-    lattice_shift,
     signed_distance,
 )
 from .jit import jit
@@ -32,6 +33,21 @@ INF = math.inf
 def flight_position(x, y, vx, vy, ax, ay, t):
     """Position after time ``t`` of free flight under constant acceleration."""
     return x + t * (vx + 0.5 * ax * t), y + t * (vy + 0.5 * ay * t)
+
+
+@jit(inline="always")
+def advance(x, y, vx, vy, ax, ay, t, has_force):
+    """State ``(x, y, vx, vy)`` after time ``t >= 0`` of free flight.
+
+    Without a force (``ax = ay = 0``) the acceleration terms are exact zeros,
+    so they are skipped: same values, but the compiler cannot drop a
+    ``0 * t`` itself (``t`` might be infinite), and these operations lie on
+    the chain of dependent arithmetic from one collision to the next.
+    """
+    if has_force:
+        hx, hy = flight_position(x, y, vx, vy, ax, ay, t)
+        return hx, hy, vx + ax * t, vy + ay * t
+    return x + t * vx, y + t * vy, vx, vy
 
 
 @jit
@@ -113,21 +129,20 @@ def element_hit_time(kind, p, x, y, vx, vy, ax, ay, has_force, deflate, hi, exte
 
 @jit(inline="always")
 def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_force,
-                cur_e, cur_o1, cur_o2, hi, extent_tol, t_in):
+                cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, shifted=True):
     """Earliest hit in ``(0, hi]`` over the element copies that reach cell ``(d1, d2)``.
 
     ``copies[k] = (element, o1, o2)``: element translated by ``o1 a1 + o2 a2``
     (the columns of ``A``) relative to the cell; a plain scene has one copy per
-    element with zero offset.  The copy just hit, ``(cur_e, cur_o1, cur_o2)`` in
-    absolute offsets, is deflated on the flight from ``(x, y)``.  Every other
+    element with zero offset and passes ``shifted=False`` (no shift to form).
+    The copy just hit, ``(cur_e, cur_o1, cur_o2)`` in absolute offsets, is
+    deflated on the flight from ``(x, y)``.  Every other
     copy is solved on the flight re-centred at ``t_in`` (when the particle
     enters the cell), so a long flight's crossing polynomial is formed at the
     scale of the cell and keeps its digits.  Ties go to the earlier copy.
     Returns ``(t, element, o1, o2)`` or ``(inf, -1, 0, 0)``.
     """
-    xi, yi = flight_position(x, y, vx, vy, ax, ay, t_in)
-    vxi = vx + ax * t_in
-    vyi = vy + ay * t_in
+    xi, yi, vxi, vyi = advance(x, y, vx, vy, ax, ay, t_in, has_force)
     # a bounded window: the arc lies in the hull of its Bezier control points, so a
     # copy whose box misses the hull's box cannot be hit in it (straight flights
     # skip the filter: their exit test is about as cheap)
@@ -154,7 +169,7 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_forc
         e = copies[k, 0]
         o1 = copies[k, 1] + d1
         o2 = copies[k, 2] + d2
-        sx, sy = lattice_shift(A, o1, o2)
+        sx, sy = copy_shift(A, o1, o2, shifted)
         if e == cur_e and o1 == cur_o1 and o2 == cur_o2:
             t = element_hit_time(kinds[e], params[e], x - sx, y - sy, vx, vy, ax, ay, has_force,
                                  True, best_t, extent_tol)
@@ -217,11 +232,12 @@ def slides_off(kind, p, x, y, vx, vy, ax, ay):
     rounding (a grazing contact under a force that presses the particle on the
     wall, or a contact exactly along the wall): the event model cannot go on.
     """
-    c0, c1, c2, c3, c4 = crossing_coefficients(kind, p, x, y, vx, vy, ax, ay)
+    c1 = crossing_slope(kind, p, x, y, vx, vy)  # decides all but a contact along the wall
     if c1 > 0.0:
         return False
     if c1 < 0.0:
         return True
+    c0, c1, c2, c3, c4 = crossing_coefficients(kind, p, x, y, vx, vy, ax, ay)
     if c2 != 0.0:
         return c2 < 0.0
     if c3 != 0.0:

@@ -25,8 +25,8 @@ import math
 import numpy as np
 
 from .cells import walk_hit
-from .events import flight_position, hit_in_cell, leaves_through_contact, slides_off
-from .geometry import arclength, lattice_shift, place_on_element
+from .events import advance, flight_position, hit_in_cell, leaves_through_contact, slides_off
+from .geometry import arclength, copy_shift, lattice_shift, place_on_element
 from .jit import jit
 from .laws import collide
 from .layout import (
@@ -88,7 +88,7 @@ def _near_junction(jstart, jpts, e, x, y, gate):
 
 
 @jit
-def _contact(kinds, params, copies, A, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2, tol):
+def _contact(kinds, params, copies, A, lattice, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2, tol):
     """First element copy (other than the current one) touched here and left through, or ``(-1, 0, 0)``."""
     for k in range(copies.shape[0]):
         e = copies[k, 0]
@@ -96,7 +96,7 @@ def _contact(kinds, params, copies, A, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_
         o2 = copies[k, 2]
         if e == cur_e and o1 == cur_o1 and o2 == cur_o2:
             continue
-        sx, sy = lattice_shift(A, o1, o2)
+        sx, sy = copy_shift(A, o1, o2, lattice)
         if leaves_through_contact(kinds[e], params[e], x - sx, y - sy, vx, vy, ax, ay, tol):
             return e, o1, o2
     return -1, 0, 0
@@ -216,7 +216,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None):
                 escape = status == 2 or (status == 1 and limit == INF)
             else:
                 t_hit, e, o1, o2 = hit_in_cell(kinds, params, copies, A, 0, 0, x, y, vx, vy, ax, ay,
-                                               has_force, cur_e, cur_o1, cur_o2, INF, extent_tol, 0.0)
+                                               has_force, cur_e, cur_o1, cur_o2, INF, extent_tol, 0.0, False)
                 escape = e < 0  # no element ahead: the orbit leaves for good
             if t_level < INF and t_level <= t_hit and t_level <= remaining:
                 x, y = flight_position(x, y, vx, vy, ax, ay, t_level)
@@ -237,12 +237,10 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None):
                 stop = STOP_MAX_TIME
                 break
             # relocate onto the element copy, then resolve the collision
-            hx, hy = flight_position(x, y, vx, vy, ax, ay, t_hit)
-            vx_in = vx + ax * t_hit
-            vy_in = vy + ay * t_hit
+            hx, hy, vx_in, vy_in = advance(x, y, vx, vy, ax, ay, t_hit, has_force)
             kind = kinds[e]
             p = params[e]
-            sx, sy = lattice_shift(A, o1, o2)
+            sx, sy = copy_shift(A, o1, o2, lattice)
             px, py, nx, ny = place_on_element(kind, p, hx - sx, hy - sy)
             x = px + sx
             y = py + sy
@@ -273,8 +271,8 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None):
             bounces = 0
             near = _near_junction(jstart, jpts, e, x - sx, y - sy, JUNCTION_GATE * length)
             while near and n < max_collisions:
-                j, o1, o2 = _contact(kinds, params, copies, A, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2,
-                                     CONTACT_TOL * length)
+                j, o1, o2 = _contact(kinds, params, copies, A, lattice, x, y, vx, vy, ax, ay,
+                                     cur_e, cur_o1, cur_o2, CONTACT_TOL * length)
                 if j < 0:
                     break
                 bounces += 1
@@ -283,7 +281,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None):
                     break
                 kind = kinds[j]
                 p = params[j]
-                sx, sy = lattice_shift(A, o1, o2)
+                sx, sy = copy_shift(A, o1, o2, lattice)
                 nx, ny = place_on_element(kind, p, x - sx, y - sy)[2:]
                 vx_in = vx
                 vy_in = vy
@@ -299,7 +297,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None):
                 cur_o2 = o2
             if stop == STOP_CORNER:
                 break
-            sx, sy = lattice_shift(A, cur_o1, cur_o2)
+            sx, sy = copy_shift(A, cur_o1, cur_o2, lattice)
             if slides_off(kinds[cur_e], params[cur_e], x - sx, y - sy, vx, vy, ax, ay):
                 stop = STOP_GRAZING
                 break
