@@ -12,14 +12,12 @@ Run: ``python benchmarks/baseline_sinai_torus.py``.
 """
 import math
 import os
-import platform
 import sys
-import time
 
 from numba import njit
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from machine import cpu_model  # noqa: E402
+from machine import report_baseline  # noqa: E402
 
 
 @njit
@@ -69,14 +67,7 @@ def sinai_torus(x, y, vx, vy, n, r):
 
 
 def main(n=10_000_000):
-    print(f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python {platform.python_version()}")
-    sinai_torus(0.45, 0.1, 0.6, 0.8, 10, 0.25)
-    best = 0.0
-    for _ in range(3):
-        t0 = time.perf_counter()
-        sinai_torus(0.45, 0.1, 0.6, 0.8, n, 0.25)
-        best = max(best, n / (time.perf_counter() - t0))
-    print(f"hand-written Sinai torus grid walk (no guarantees): {best:,.0f} collisions/s")
+    report_baseline("hand-written Sinai torus grid walk", sinai_torus, (0.45, 0.1, 0.6, 0.8), n, 0.25)
 
 
 if __name__ == "__main__":

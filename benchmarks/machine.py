@@ -12,3 +12,18 @@ def cpu_model():
     except OSError:
         pass
     return platform.processor() or "unknown"
+
+
+def report_baseline(label, loop, start, n, *params):
+    """Print the machine, then the best of three timings of ``loop(*start, n, *params)`` (after a warm-up)."""
+    import os
+    import time
+
+    print(f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python {platform.python_version()}")
+    loop(*start, 10, *params)
+    best = 0.0
+    for _ in range(3):
+        t0 = time.perf_counter()
+        loop(*start, n, *params)
+        best = max(best, n / (time.perf_counter() - t0))
+    print(f"{label} (no guarantees): {best:,.0f} collisions/s")
