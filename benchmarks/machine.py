@@ -1,5 +1,7 @@
 """What machine a benchmark ran on (shared by the benchmark scripts)."""
+import os
 import platform
+import time
 
 
 def cpu_model():
@@ -16,9 +18,6 @@ def cpu_model():
 
 def report_baseline(label, loop, start, n, *params):
     """Print the machine, then the best of three timings of ``loop(*start, n, *params)`` (after a warm-up)."""
-    import os
-    import time
-
     print(f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python {platform.python_version()}")
     loop(*start, 10, *params)
     best = 0.0

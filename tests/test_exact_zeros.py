@@ -30,8 +30,8 @@ def test_advance_without_force_is_the_flight_with_zero_acceleration():
             lean = advance(x, y, vx, vy, ax, ax, t, False)
             assert lean == full, (t, x, y, vx, vy)
     # with a force, advance is the full flight
-    assert advance(1.0, 2.0, 0.5, -0.25, 0.0, -1.0, 3.0, True) == (*flight_position(1.0, 2.0, 0.5, -0.25, 0.0, -1.0, 3.0),
-                                                                    0.5, -3.25)
+    full = (*flight_position(1.0, 2.0, 0.5, -0.25, 0.0, -1.0, 3.0), 0.5, -3.25)
+    assert advance(1.0, 2.0, 0.5, -0.25, 0.0, -1.0, 3.0, True) == full
 
 
 @pytest.mark.parametrize("kind", [LINE, SEGMENT, CIRCLE, ARC])

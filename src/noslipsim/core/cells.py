@@ -130,7 +130,7 @@ def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
         ta, sa = _strip_exit(a0, a1, a2, d1 - 0.5, d1 + 0.5, t_in)
         tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
         t_out = min(ta, tb)
-        t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_force,
+        t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, True,
                                    cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in)
         if e >= 0:
             return t, e, o1, o2, 0

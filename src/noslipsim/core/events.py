@@ -237,7 +237,7 @@ def slides_off(kind, p, x, y, vx, vy, ax, ay):
         return False
     if c1 < 0.0:
         return True
-    c0, c1, c2, c3, c4 = crossing_coefficients(kind, p, x, y, vx, vy, ax, ay)
+    c2, c3, c4 = crossing_coefficients(kind, p, x, y, vx, vy, ax, ay)[2:]
     if c2 != 0.0:
         return c2 < 0.0
     if c3 != 0.0:

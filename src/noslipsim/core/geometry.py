@@ -36,6 +36,14 @@ def copy_shift(A, o1, o2, shifted):
 
 
 @jit
+def crossing_slope(kind, p, x, y, vx, vy):
+    """``c1`` of :func:`crossing_coefficients`, the rate at which the flight crosses at ``t = 0`` (no force needed)."""
+    if kind == LINE or kind == SEGMENT:
+        return vx * p[2] + vy * p[3]
+    return p[3] * 2.0 * ((x - p[0]) * vx + (y - p[1]) * vy)
+
+
+@jit
 def crossing_coefficients(kind, p, x, y, vx, vy, ax, ay):
     """Coefficients ``(c0, ..., c4)`` of the crossing polynomial of element ``p`` along a flight.
 
@@ -46,25 +54,17 @@ def crossing_coefficients(kind, p, x, y, vx, vy, ax, ay):
         nx = p[2]
         ny = p[3]
         c0 = (x - p[0]) * nx + (y - p[1]) * ny
-        return c0, vx * nx + vy * ny, 0.5 * (ax * nx + ay * ny), 0.0, 0.0
+        return c0, crossing_slope(kind, p, x, y, vx, vy), 0.5 * (ax * nx + ay * ny), 0.0, 0.0
     sig = p[3]
     dx = x - p[0]
     dy = y - p[1]
     r = p[2]
     c0 = sig * ((dx * dx + dy * dy) - r * r)
-    c1 = sig * 2.0 * (dx * vx + dy * vy)
+    c1 = crossing_slope(kind, p, x, y, vx, vy)
     c2 = sig * ((vx * vx + vy * vy) + (dx * ax + dy * ay))
     c3 = sig * (vx * ax + vy * ay)
     c4 = sig * 0.25 * (ax * ax + ay * ay)
     return c0, c1, c2, c3, c4
-
-
-@jit
-def crossing_slope(kind, p, x, y, vx, vy):
-    """``c1`` of :func:`crossing_coefficients` alone (the same operations, so the same value)."""
-    if kind == LINE or kind == SEGMENT:
-        return vx * p[2] + vy * p[3]
-    return p[3] * 2.0 * ((x - p[0]) * vx + (y - p[1]) * vy)
 
 
 @jit

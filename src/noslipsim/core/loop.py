@@ -25,7 +25,7 @@ import math
 import numpy as np
 
 from .cells import walk_hit
-from .events import advance, flight_position, hit_in_cell, leaves_through_contact, slides_off
+from .events import advance, hit_in_cell, leaves_through_contact, slides_off
 from .geometry import arclength, copy_shift, lattice_shift, place_on_element
 from .jit import jit
 from .laws import collide
@@ -219,10 +219,8 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None):
                                                has_force, cur_e, cur_o1, cur_o2, INF, extent_tol, 0.0, False)
                 escape = e < 0  # no element ahead: the orbit leaves for good
             if t_level < INF and t_level <= t_hit and t_level <= remaining:
-                x, y = flight_position(x, y, vx, vy, ax, ay, t_level)
+                x, y, vx, vy = advance(x, y, vx, vy, ax, ay, t_level, has_force)
                 y = stop_below - oy
-                vx += ax * t_level
-                vy += ay * t_level
                 t += t_level
                 stop = STOP_LEVEL
                 break
@@ -230,9 +228,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None):
                 stop = STOP_ESCAPE
                 break
             if e < 0 or t_hit > remaining:
-                x, y = flight_position(x, y, vx, vy, ax, ay, remaining)
-                vx += ax * remaining
-                vy += ay * remaining
+                x, y, vx, vy = advance(x, y, vx, vy, ax, ay, remaining, has_force)
                 t = max_time
                 stop = STOP_MAX_TIME
                 break
