@@ -1,6 +1,6 @@
 """Ablation of the event-loop specialisations (issue: pay only for what a scene needs, measured).
 
-``orbit_kernel(force, spin, lattice, mode)`` fixes each flag at compile time
+``orbit_kernel(force, spin, lattice, mode, disks)`` fixes each flag at compile time
 (``None`` = read it from the arguments: the general path).  Each row times one
 orbit of ~2e6 collisions (best of three, after a compile warm-up) with a
 baseline kernel and a specialised one on the SAME scene and start, and checks
@@ -18,6 +18,9 @@ Sections:
 * lean recorder: ``RECORD_LOG`` (full log array) vs ``RECORD_NONE`` on the same
   kernel (``n_rec`` differs by design; the other 11 outputs must not);
 * force: circle under gravity and the Galton board (lattice, force);
+* one disk per cell: the lean loop of ``core/disks.py`` (``disks=True``) vs
+  the lattice variant of the general loop on the Sinai torus; other formulas,
+  so checked per flight to 1e-12 (as in ``tests/test_disk_lattice.py``);
 * neighbour-cell lookup: Sinai torus r = 0.25 as a lattice vs the same disks
   written out as a 61 x 61 block of explicit ``Circle`` copies (no enclosing box:
   the explicit orbit is timed until it escapes the block).  Positions are
@@ -73,7 +76,7 @@ def label(flags):
     """``orbit_kernel(...)`` call text for a flag tuple."""
     if all(f is None for f in flags):
         return "general"
-    names = ("force", "spin", "lattice", "mode")
+    names = ("force", "spin", "lattice", "mode", "disks")
     modes = {NONE: "NONE", LOG: "LOG", layout.RECORD_PORTRAIT: "PORTRAIT"}
     parts = [f"{n}={modes[f] if n == 'mode' else f}" for n, f in zip(names, flags) if f is not None]
     return ", ".join(parts)
@@ -228,6 +231,42 @@ def neighbour_cells(rows, law, half=30, n_check=1000):
     print(fmt_row(rows[-1]), flush=True)
 
 
+def disk_cells(rows, law, n_check=1000):
+    """The lean loop of one disk per cell vs the lattice variant of the general loop (same flags otherwise).
+
+    Other formulas, so the check is per flight: the lean loop restarted on the disk
+    just hit, from the general loop's state after each of the first ``n_check``
+    collisions, must hit the same cell at the same time and place to 1e-12.
+    """
+    name = "Sinai torus r=0.25"
+    scene = TORUS.replace(law=law)
+    flags = scene.kernel_variant(NONE)
+    orbit = Orbit(scene, *STARTS[name])
+    (rate_g, rate_l), _ = timed(orbit, [(orbit_kernel(*flags[:4]), NONE), (orbit_kernel(*flags), NONE)])
+    log = np.zeros((n_check + 1, layout.N_LOG))
+    orbit.run(orbit_kernel(*scene.kernel_variant(LOG)[:4]), n_check + 1, LOG, log)
+    lean_log = orbit_kernel(*scene.kernel_variant(LOG))
+    one = np.zeros((1, layout.N_LOG))
+    agree = 0
+    worst = 0.0
+    for k in range(n_check):
+        a, b = log[k], log[k + 1]
+        cell = (int(a[layout.LOG_CELL_A1]), int(a[layout.LOG_CELL_A2]))
+        start = Orbit(scene, (a[layout.LOG_X] - cell[0], a[layout.LOG_Y] - cell[1]),
+                      (a[layout.LOG_VX], a[layout.LOG_VY]), a[layout.LOG_W])
+        one[:] = 0.0
+        out = start.run(lean_log, 1, LOG, one, start_element=0)
+        dev = max(abs(one[0, layout.LOG_T] - (b[layout.LOG_T] - a[layout.LOG_T])),
+                  *(abs(one[0, c] - b[c] + (cell[c - layout.LOG_X] if c in (layout.LOG_X, layout.LOG_Y) else 0))
+                    for c in (layout.LOG_X, layout.LOG_Y, layout.LOG_VX, layout.LOG_VY, layout.LOG_W)))
+        same_cell = (out[10] + cell[0], out[11] + cell[1]) == (b[layout.LOG_CELL_A1], b[layout.LOG_CELL_A2])
+        agree += out[0] == 1 and same_cell and dev <= 1e-12
+        worst = max(worst, dev)
+    rows.append(("one disk per cell", f"{name}, {law}", label(flags[:4]), label(flags), rate_g, rate_l,
+                 f"per flight: {agree}/{n_check} agree (max dev {worst:.1e})"))
+    print(fmt_row(rows[-1]), flush=True)
+
+
 def main():
     machine = (f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python "
                f"{platform.python_version()} | numpy {np.__version__}")
@@ -240,7 +279,7 @@ def main():
     for name, base in (("pentagon", PENTAGON), ("Sinai box", SINAI_BOX)):
         for law in ("specular", "no-slip"):
             scene = base.replace(law=law)
-            f, s, l, m = scene.kernel_variant(NONE)
+            f, s, l, m = scene.kernel_variant(NONE)[:4]
             # what straight flights buy: the same scene through the force code (degree 4 and 3,
             # leading coefficients exactly zero) against its own variant
             compare(rows, "straight flights", name, scene, (True, s, l, m), (f, s, l, m))
@@ -260,12 +299,14 @@ def main():
     for name, base in (("circle + gravity", CIRCLE_G), ("Galton board", GALTON)):
         for law in ("no-slip", "specular"):
             scene = base.replace(law=law)
-            f, s, l, m = scene.kernel_variant(NONE)
+            f, s, l, m = scene.kernel_variant(NONE)[:4]
             for variant in ((f, None, None, None), (None, None, l, None), (f, s, l, m)):
                 compare(rows, "force", name, scene, G, variant)
-    # lattice: the cell walk vs explicit copies
+    # lattice: the cell walk vs explicit copies, and the lean loop of one disk per cell
     for law in ("no-slip", "specular"):
         neighbour_cells(rows, law)
+    for law in ("no-slip", "specular"):
+        disk_cells(rows, law)
 
     when = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
     with open(OUT, "w", encoding="utf-8") as fh:
@@ -280,7 +321,10 @@ def main():
                  "rounding differs (positions re-centred per cell), so the check is per flight (explicit scene "
                  "restarted from the lattice state after each of the first 1000 collisions, same disk + cell, "
                  "time, position, velocity, spin within 1e-9); the whole orbits part after a few collisions "
-                 "because the billiard is chaotic.\n\n")
+                 "because the billiard is chaotic. One-disk-per-cell rows compare the lean loop "
+                 "(core/disks.py: other formulas, so rounding differs) with the lattice variant of the general "
+                 "loop, per flight: the lean loop restarted from the general loop's state after each of the first "
+                 "1000 collisions, same cell, time, position, velocity and spin within 1e-12.\n\n")
         fh.write(HEADER + "\n")
         for r in rows:
             fh.write(fmt_row(r) + "\n")

@@ -4,7 +4,9 @@
 ``None`` reads them from the arguments.  On each scene every variant the scene
 can use (each flag fixed to the scene's value or left ``None``) must return the
 same 12 outputs and the same record rows as ``orbit_kernel()`` over 20,000
-collisions.  The default run checks the scene's own variant and each flag fixed
+collisions.  The fifth slot, ``disks`` (the lean loop of one disk per cell),
+is left ``None`` here: that loop agrees to rounding, not bit for bit, and is
+checked in ``tests/test_disk_lattice.py``.  The default run checks the scene's own variant and each flag fixed
 alone; ``-m stress`` checks every subset (81 compiled variants in all).
 """
 import functools
@@ -131,13 +133,14 @@ def test_comparison_sees_one_ulp_and_a_wrong_law():
 @pytest.mark.parametrize("name,law", CASES)
 def test_kernel_variant_asks_only_for_what_the_scene_needs(name, law, mode):
     scene = scene_of(name, law)[0]
-    force, spin, lattice, m = scene.kernel_variant(mode)
+    force, spin, lattice, m, disks = scene.kernel_variant(mode)
     # exact bools: orbit_kernel tells "fixed False" from "read at run time" by identity (``is False``)
-    assert all(f is True or f is False for f in (force, spin, lattice))
+    assert all(f is True or f is False for f in (force, spin, lattice, disks))
     assert force is (name in ("circle_gravity", "galton"))
     assert spin is (law == "no-slip")
     assert lattice is (name in ("galton", "sinai_torus"))
     assert m == mode and type(m) is int
+    assert disks is (name == "sinai_torus")
 
 
 @pytest.mark.parametrize("force,has", [((0.0, 0.0), False), ((0.0, -0.0), False), ((-0.0, -0.0), False),

@@ -27,7 +27,7 @@ from ._validate import finite_float, finite_vector, no_unknown_keys, required
 from .core import layout
 from .core.laws import noslip_coefficients
 from .core.loop import kernel_flags
-from .elements import element_from_dict
+from .elements import Circle, element_from_dict
 from .lattice import cell_of, lattice_matrix, reaching_copies
 
 LAWS = {"no-slip": layout.NOSLIP, "noslip": layout.NOSLIP, "specular": layout.SPECULAR}
@@ -155,7 +155,23 @@ class Scene:
         ``mode = RECORD_NONE`` for the recorder.
         """
         return kernel_flags(self.force != (0.0, 0.0), self.law_code == layout.NOSLIP,
-                            self.lattice is not None, mode)
+                            self.lattice is not None, mode, self.one_disk_per_cell)
+
+    @property
+    def one_disk_per_cell(self):
+        """True for a lattice of one disk scatterer inside each cell, without force (Sinai torus, Lorentz gas).
+
+        Such a scene runs the lean loop of :mod:`noslipsim.core.disks`: its disks
+        are convex, lie inside their cells and never touch, so it needs no
+        deflation, corner rule or extent test.
+        """
+        if self.lattice is None or self.force != (0.0, 0.0) or len(self.elements) != 1:
+            return False
+        e = self.elements[0]
+        if not (isinstance(e, Circle) and e.side == "outside"):
+            return False
+        copies = self.kernel_inputs()[2]
+        return copies.shape == (1, 3) and not copies[0, 1:].any()
 
     @property
     def noslip_coefficients(self):

@@ -25,57 +25,20 @@ import math
 import numpy as np
 
 from .cells import walk_hit
+from .disks import disk_lattice_kernel
 from .events import advance, hit_in_cell, leaves_through_contact, slides_off
-from .geometry import arclength, copy_shift, lattice_shift, place_on_element
+from .geometry import copy_shift, lattice_shift, place_on_element
 from .jit import jit
 from .laws import collide
 from .layout import (
-    LOG_CELL_A1, LOG_CELL_A2, LOG_CORNER, LOG_ELEMENT, LOG_S, LOG_T, LOG_VX, LOG_VX_IN, LOG_VY,
-    LOG_VY_IN, LOG_W, LOG_W_IN, LOG_X, LOG_Y, POR_ELEMENT, POR_S, POR_VN, POR_VT, POR_W,
-    NOSLIP, RECORD_LOG, RECORD_NONE, RECORD_PORTRAIT, SPECULAR, STOP_CORNER, STOP_ESCAPE, STOP_GRAZING, STOP_LEVEL,
+    NOSLIP, RECORD_LOG, RECORD_NONE, SPECULAR, STOP_CORNER, STOP_ESCAPE, STOP_GRAZING, STOP_LEVEL,
     STOP_MAX_COLLISIONS, STOP_MAX_TIME,
 )
+from .records import record
 from .roots import quadratic_exit
 from .tolerances import CONTACT_TOL, EXTENT_TOL, JUNCTION_GATE, MAX_CELLS_PER_FLIGHT, MAX_CORNER_BOUNCES
 
 INF = math.inf
-
-
-@jit
-def _record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w, vx_in, vy_in, w_in,
-            kind, p, sx, sy, element, corner, nx, ny):
-    """Write one collision into ``rec`` as ``mode`` asks; returns the new record count."""
-    if n_rec >= rec.shape[0]:
-        return n_rec
-    if mode == RECORD_LOG:
-        row = rec[n_rec]
-        row[LOG_T] = t
-        row[LOG_X] = x + ox
-        row[LOG_Y] = y + oy
-        row[LOG_VX] = vx
-        row[LOG_VY] = vy
-        row[LOG_W] = w
-        row[LOG_VX_IN] = vx_in
-        row[LOG_VY_IN] = vy_in
-        row[LOG_W_IN] = w_in
-        row[LOG_ELEMENT] = element
-        row[LOG_S] = arclength(kind, p, x - sx, y - sy)
-        row[LOG_CORNER] = corner
-        row[LOG_CELL_A1] = m1
-        row[LOG_CELL_A2] = m2
-        return n_rec + 1
-    if mode == RECORD_PORTRAIT and mask[element]:
-        row = rec[n_rec]
-        vt = -vx * ny + vy * nx
-        vn = vx * nx + vy * ny
-        norm = math.sqrt(w * w + vt * vt + vn * vn)
-        row[POR_ELEMENT] = element
-        row[POR_S] = arclength(kind, p, x - sx, y - sy)
-        row[POR_W] = w / norm
-        row[POR_VT] = vt / norm
-        row[POR_VN] = vn / norm
-        return n_rec + 1
-    return n_rec
 
 
 @jit
@@ -102,18 +65,18 @@ def _contact(kinds, params, copies, A, lattice, x, y, vx, vy, ax, ay, cur_e, cur
     return -1, 0, 0
 
 
-#: Kernel variants are keyed by ``(force, spin, lattice, mode)``; ``None`` in a
+#: Kernel variants are keyed by ``(force, spin, lattice, mode, disks)``; ``None`` in a
 #: slot means "read from the arguments at run time" (the general path).
 GENERAL = (None, None, None, None)
 
 
-def kernel_flags(has_force, noslip, lattice, mode):
+def kernel_flags(has_force, noslip, lattice, mode, disks=False):
     """The variant key for a scene: what its kernel needs, fixed at compile time."""
-    return bool(has_force), bool(noslip), bool(lattice), int(mode)
+    return bool(has_force), bool(noslip), bool(lattice), int(mode), bool(disks)
 
 
 @functools.lru_cache(maxsize=None)
-def orbit_kernel(force=None, spin=None, lattice=None, mode=None):
+def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None):
     """The event loop compiled for one kind of scene: a scene pays only for what it needs.
 
     Each flag is a compile-time constant (``True``/``False``, or a record
@@ -124,7 +87,14 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None):
     is the general path (:data:`run_orbit`).  Every variant makes the same
     floating-point operations on the scenes it serves, so results are
     identical to the general path's, bit for bit.
+
+    ``disks=True`` (one disk per lattice cell, no force: the Sinai torus and
+    the Lorentz gas) selects another loop, :func:`disks.disk_lattice_kernel`,
+    with the same arguments and outputs; it skips what such a scene cannot
+    need and agrees with the general path to rounding, not bit for bit.
     """
+    if disks:
+        return disk_lattice_kernel(spin, mode)
     FORCE_RT = force is None
     FORCE = bool(force)
     SPIN_RT = spin is None
@@ -256,7 +226,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None):
             vx, vy, w_out = collide(law, c, s, vx_in, vy_in, w, nx, ny)
             t += t_hit
             if mode != RECORD_NONE:
-                n_rec = _record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w_out, vx_in, vy_in, w,
+                n_rec = record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w_out, vx_in, vy_in, w,
                                 kind, p, sx, sy, e, 0.0, nx, ny)
             w = w_out
             n += 1
@@ -283,7 +253,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None):
                 vy_in = vy
                 vx, vy, w_out = collide(law, c, s, vx_in, vy_in, w, nx, ny)
                 if mode != RECORD_NONE:
-                    n_rec = _record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w_out, vx_in, vy_in,
+                    n_rec = record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w_out, vx_in, vy_in,
                                     w, kind, p, sx, sy, j, 1.0, nx, ny)
                 w = w_out
                 n += 1
