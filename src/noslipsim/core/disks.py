@@ -78,16 +78,18 @@ def _line_disk(dx, dy, vx, vy, ivv, rr):
 def disk_walk(p, A, B, x, y, vx, vy, cur_o1, cur_o2, t_limit, max_cells):
     """First disk hit of the straight flight from ``(x, y)`` (relative to cell 0); one disk ``p`` per cell.
 
-    Walks the cells as :func:`cells.walk_hit` does (the same face times) and
-    tests the disk of each cell but the one just hit (in cell
-    ``(cur_o1, cur_o2)``); the disk lies inside its cell, so the first hit
-    found is the earliest.  Along the first ``INCREMENTAL_CELLS`` cells the
-    offset ``d`` from the disk's centre is updated by one lattice vector per
-    step, and a test within the bound of that drift (``margin``) is repeated
-    with ``d`` formed from the cell indices, as every later cell is; so the
-    outcome is that of the direct form.  Returns ``(t, o1, o2, hx, hy, status)``:
-    the hit cell, the hit point relative to the centre, and ``status`` as in
-    :func:`cells.walk_hit` (0 hit, 1 past ``t_limit``, 2 past ``max_cells``).
+    Walks the cells as :func:`cells.walk_hit` does (face times from the
+    flight's start, here times the reciprocal rate) and tests the disk of
+    each cell but the one just hit (in cell ``(cur_o1, cur_o2)``); the disk
+    lies inside its cell, so the first hit found is the earliest.  Along the
+    first ``INCREMENTAL_CELLS`` cells the offset ``d`` from the disk's centre
+    is updated by one lattice vector per step (each step rounds once); later
+    cells form it from the cell indices, so its error stays within a few
+    rounding errors of the direct form's however long the flight.
+
+    Returns ``(t, o1, o2, hx, hy, status)``: the hit cell, the hit point
+    relative to the centre, and ``status`` as in :func:`cells.walk_hit`
+    (0 hit, 1 past ``t_limit``, 2 past ``max_cells``).
     """
     a0 = B[0, 0] * x + B[0, 1] * y
     a1 = B[0, 0] * vx + B[0, 1] * vy
