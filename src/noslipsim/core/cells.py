@@ -19,6 +19,7 @@ face times.
 import math
 
 from .events import hit_in_cell
+from .geometry import lattice_coordinates
 from .jit import jit
 from .roots import quadratic_exit
 
@@ -114,15 +115,14 @@ def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
     without a hit (an endless free flight, reported as an escape).
     """
     # lattice coordinates along the flight: alpha(t) = B[0].q(t), beta(t) = B[1].q(t)
-    a0 = B[0, 0] * x + B[0, 1] * y
-    a1 = B[0, 0] * vx + B[0, 1] * vy
-    b0 = B[1, 0] * x + B[1, 1] * y
-    b1 = B[1, 0] * vx + B[1, 1] * vy
+    a0, b0 = lattice_coordinates(B, x, y)
+    a1, b1 = lattice_coordinates(B, vx, vy)
     if not has_force:
         return _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
                               cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells)
-    a2 = 0.5 * (B[0, 0] * ax + B[0, 1] * ay)
-    b2 = 0.5 * (B[1, 0] * ax + B[1, 1] * ay)
+    a2, b2 = lattice_coordinates(B, ax, ay)
+    a2 *= 0.5
+    b2 *= 0.5
     d1 = 0
     d2 = 0
     t_in = 0.0

@@ -32,9 +32,7 @@ Measured on the Sinai torus: about twice the general loop's speed
 import functools
 import math
 
-import numpy as np
-
-from .geometry import lattice_shift
+from .geometry import lattice_coordinates, lattice_shift, nearest_cell
 from .jit import jit
 from .laws import collide
 from .layout import (
@@ -91,10 +89,8 @@ def disk_walk(p, A, B, x, y, vx, vy, cur_o1, cur_o2, t_limit, max_cells):
     relative to the centre, and ``status`` as in :func:`cells.walk_hit`
     (0 hit, 1 past ``t_limit``, 2 past ``max_cells``).
     """
-    a0 = B[0, 0] * x + B[0, 1] * y
-    a1 = B[0, 0] * vx + B[0, 1] * vy
-    b0 = B[1, 0] * x + B[1, 1] * y
-    b1 = B[1, 0] * vx + B[1, 1] * vy
+    a0, b0 = lattice_coordinates(B, x, y)
+    a1, b1 = lattice_coordinates(B, vx, vy)
     vv = vx * vx + vy * vy
     ivv = 1.0 / vv
     s1 = 1 if a1 > 0.0 else -1
@@ -231,8 +227,9 @@ def disk_lattice_kernel(spin=None, mode=None):
             cur_o2 = 0
         ox, oy = lattice_shift(A, m1, m2)
         # the final state may lie in another cell (a stop in mid-flight)
-        m1 += int(np.rint(B[0, 0] * x + B[0, 1] * y))
-        m2 += int(np.rint(B[1, 0] * x + B[1, 1] * y))
+        k1, k2 = nearest_cell(B, x, y)
+        m1 += k1
+        m2 += k2
         return n, stop, 0, n_rec, t, x + ox, y + oy, vx, vy, w, m1, m2
 
     return run_disk_orbit

@@ -10,6 +10,8 @@ the table, into the wall) and the tangent is ``t = J n = (-n_y, n_x)``.
 """
 import math
 
+import numpy as np
+
 from .jit import jit
 from .layout import ARC, CIRCLE, END_END, END_START, LINE, SEGMENT
 
@@ -20,6 +22,19 @@ TWO_PI = 2.0 * math.pi
 def lattice_shift(A, n1, n2):
     """The translation ``n1 a1 + n2 a2`` (lattice vectors are the columns of ``A``; zero for plain scenes)."""
     return n1 * A[0, 0] + n2 * A[0, 1], n1 * A[1, 0] + n2 * A[1, 1]
+
+
+@jit(inline="always")
+def lattice_coordinates(B, x, y):
+    """``(alpha, beta) = B (x, y)``: a point (or velocity) in units of the lattice vectors (``B = A^-1``)."""
+    return B[0, 0] * x + B[0, 1] * y, B[1, 0] * x + B[1, 1] * y
+
+
+@jit(inline="always")
+def nearest_cell(B, x, y):
+    """Integer indices ``(n1, n2)`` of the cell holding ``(x, y)`` (centred cells: the nearest lattice site)."""
+    alpha, beta = lattice_coordinates(B, x, y)
+    return int(np.rint(alpha)), int(np.rint(beta))
 
 
 @jit(inline="always")

@@ -22,12 +22,10 @@ time is a running sum.
 import functools
 import math
 
-import numpy as np
-
 from .cells import walk_hit
 from .disks import disk_lattice_kernel
 from .events import advance, hit_in_cell, leaves_through_contact, slides_off
-from .geometry import copy_shift, lattice_shift, place_on_element
+from .geometry import copy_shift, lattice_shift, nearest_cell, place_on_element
 from .jit import jit
 from .laws import collide
 from .layout import (
@@ -211,8 +209,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None):
             x = px + sx
             y = py + sy
             if lattice:  # re-base onto the cell that now holds the particle
-                k1 = int(np.rint(B[0, 0] * x + B[0, 1] * y))
-                k2 = int(np.rint(B[1, 0] * x + B[1, 1] * y))
+                k1, k2 = nearest_cell(B, x, y)
                 if k1 != 0 or k2 != 0:
                     dx, dy = lattice_shift(A, k1, k2)
                     x -= dx
@@ -268,8 +265,9 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None):
                 stop = STOP_GRAZING
                 break
         if lattice:  # the final state may lie in another cell (a stop in mid-flight)
-            m1 += int(np.rint(B[0, 0] * x + B[0, 1] * y))
-            m2 += int(np.rint(B[1, 0] * x + B[1, 1] * y))
+            k1, k2 = nearest_cell(B, x, y)
+            m1 += k1
+            m2 += k2
         return n, stop, n_corner, n_rec, t, x + ox, y + oy, vx, vy, w, m1, m2
 
     return run_orbit
