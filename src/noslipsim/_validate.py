@@ -1,5 +1,6 @@
 """Small input checks shared by the public layer: each error names the field."""
 import math
+import os
 
 import numpy as np
 
@@ -32,7 +33,7 @@ def no_unknown_keys(mapping, allowed, where):
     """Reject keys of ``mapping`` outside ``allowed``."""
     if not isinstance(mapping, dict):
         raise ValueError(f"{where}: expected a mapping, got {type(mapping).__name__}")
-    unknown = sorted(set(mapping) - set(allowed))
+    unknown = sorted(set(mapping) - set(allowed), key=repr)  # YAML keys may be numbers, None, ...
     if unknown:
         raise ValueError(f"{where}: unknown key(s) {unknown}; allowed: {sorted(allowed)}")
 
@@ -41,3 +42,63 @@ def required(mapping, key, where):
     if key not in mapping:
         raise ValueError(f"{where}.{key}: missing")
     return mapping[key]
+
+
+def read_yaml(source, what):
+    """Parse YAML from a file path or from YAML text; returns ``(data, where)``.
+
+    ``where`` names the source in later error messages: the path of a file,
+    or ``what`` for text.  A one-line string that is neither an existing path
+    nor a YAML mapping is taken as a path that does not exist.
+
+    Raises
+    ------
+    FileNotFoundError
+        ``source`` names a file that does not exist.
+    OSError
+        The file exists but cannot be read (a folder, no permission).
+    ValueError
+        The text is not UTF-8, or not valid YAML (the message gives the line
+        and column of the problem).
+    TypeError
+        ``source`` is neither a string nor a path.
+    """
+    import yaml
+
+    if not isinstance(source, (str, os.PathLike)):
+        raise TypeError(f"{what}: expected a file path or YAML text, got {type(source).__name__}")
+    text = os.fspath(source)
+    if not isinstance(text, str):
+        raise TypeError(f"{what}: expected a file path or YAML text, got {source!r}")
+    where = what
+    if isinstance(source, os.PathLike) or ("\n" not in text and os.path.exists(text)):
+        where = text
+        try:
+            with open(text, encoding="utf-8") as fh:
+                text = fh.read()
+        except UnicodeDecodeError as err:
+            raise ValueError(f"{where}: not a UTF-8 text file ({err.reason} at byte {err.start})") from None
+    try:
+        data = yaml.safe_load(text)
+    except yaml.MarkedYAMLError as err:
+        raise ValueError(f"{where}: {_yaml_problem(err)}") from None
+    except yaml.YAMLError as err:  # unmarked errors (rare): still one line
+        raise ValueError(f"{where}: invalid YAML: {' '.join(str(err).split())}") from None
+    except RecursionError:
+        raise ValueError(f"{where}: YAML nested too deeply") from None
+    if where == what and "\n" not in text and (isinstance(data, str) or (data is None and text.strip())):
+        raise FileNotFoundError(f"{what}: no such file {text!r} (expected the path of a YAML file, or YAML text)")
+    return data, where
+
+
+def _yaml_problem(err):
+    """``YAML syntax error at line L, column C: problem (context)`` from a PyYAML error (1-based)."""
+    mark = err.problem_mark or err.context_mark
+    at = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
+    problem = err.problem or "invalid YAML"
+    if err.context:
+        cmark = err.context_mark
+        started = (f" started at line {cmark.line + 1}, column {cmark.column + 1}"
+                   if cmark is not None and cmark is not mark else "")
+        problem = f"{problem} ({err.context}{started})"
+    return " ".join(f"YAML syntax error{at}: {problem}".split())

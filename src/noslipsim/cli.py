@@ -1,7 +1,14 @@
-"""Command line.
+"""Command line: ``noslipsim simulate``, ``noslipsim run``.
 
 ``noslipsim simulate SCENE.yaml --position X Y --velocity VX VY [--spin W] -n N [-o orbit.nc]``
 ``noslipsim run CONFIG.yaml -o dataset.nc``
+
+Every mistake a user can make (a missing or unreadable file, a YAML syntax
+error, an unknown key, a wrong type, a start outside the table, a bad number)
+ends as one line on stderr, ``noslipsim: error: <what, where, what was
+expected>``, with exit status 2.  ``--debug`` shows the Python traceback
+instead (for bug reports).  The scene-file format is described in
+docs/scenes.md.
 """
 from __future__ import annotations
 
@@ -11,46 +18,111 @@ import sys
 
 from ._version import __version__
 
+#: Exit status of a user error (as argparse uses for a bad command line).
+EXIT_USAGE = 2
+#: Exit status of an unexpected failure (a bug: rerun with --debug and report it).
+EXIT_INTERNAL = 1
+
+#: API field names as the options that set them, so a message names what the user typed.
+_OPTIONS = {
+    "position": "--position", "velocity": "--velocity", "spin": "--spin",
+    "max_collisions": "-n/--max-collisions", "max_time": "--max-time", "stop_below": "--stop-below",
+}
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with its errors on one line, in the same form as every other error."""
+
+    def error(self, message):
+        self.exit(EXIT_USAGE, f"noslipsim: error: {message} (see '{self.prog} --help')\n")
+
 
 def _parser():
-    p = argparse.ArgumentParser(prog="noslipsim", description="noslipsim: no-slip billiards under a force")
+    p = _Parser(prog="noslipsim", description="noslipsim: no-slip billiards under a force")
     p.add_argument("--version", action="version", version=f"noslipsim {__version__}")
-    sub = p.add_subparsers(dest="command", required=True)
+    p.add_argument("--debug", action="store_true", help="show the Python traceback of an error")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    # --debug is also accepted after the subcommand; SUPPRESS keeps the top-level value otherwise
+    debug = dict(action="store_true", default=argparse.SUPPRESS, help="show the Python traceback of an error")
+
     s = sub.add_parser("simulate", help="simulate one orbit of a scene file")
-    s.add_argument("scene", help="scene file (YAML, DESIGN section 4)")
-    s.add_argument("--position", nargs=2, type=float, required=True, metavar=("X", "Y"))
-    s.add_argument("--velocity", nargs=2, type=float, required=True, metavar=("VX", "VY"))
-    s.add_argument("--spin", type=float, default=0.0, help="scaled spin w = gamma R omega (CCW positive)")
-    s.add_argument("-n", "--max-collisions", type=int, default=20)
-    s.add_argument("--max-time", type=float, default=math.inf)
+    _orbit_arguments(s, default_n=20)
+    s.add_argument("--max-time", type=float, default=math.inf, help="time limit (default: none)")
     s.add_argument("--stop-below", type=float, default=None, help="stop when crossing this height downwards")
     s.add_argument("-o", "--output", help="write the orbit to this netCDF file instead of printing it")
+    s.add_argument("--debug", **debug)
+
     r = sub.add_parser("run", help="run an experiment from a YAML config and write its dataset")
     r.add_argument("config", help="YAML: {experiment: NAME, parameters: {...}}")
     r.add_argument("-o", "--output", required=True, help="netCDF file to write")
+    r.add_argument("--debug", **debug)
     return p
 
 
-def _run_experiment(args):
-    import yaml
+def _orbit_arguments(p, default_n):
+    p.add_argument("scene", help="scene file (YAML; format in docs/scenes.md)")
+    p.add_argument("--position", nargs=2, type=float, required=True, metavar=("X", "Y"))
+    p.add_argument("--velocity", nargs=2, type=float, required=True, metavar=("VX", "VY"))
+    p.add_argument("--spin", type=float, default=0.0, help="scaled spin w = gamma R omega (CCW positive)")
+    p.add_argument("-n", "--max-collisions", type=int, default=default_n,
+                   help=f"number of collisions (default {default_n})")
 
+
+# ---------------------------------------------------------------------------- commands
+def _simulate(args):
+    from .io import write_dataset
+    from .scenes import Scene
+    from .simulate import simulate
+
+    scene = Scene.from_yaml(args.scene)
+    ds = _start_errors(simulate, scene, args.position, args.velocity, args.spin,
+                       max_collisions=args.max_collisions, max_time=args.max_time, stop_below=args.stop_below)
+    if args.output:
+        write_dataset(ds, args.output)
+        print(f"wrote {int(ds.n_collisions)} collisions to {args.output} ({ds.attrs['stop_reason']})")
+    else:
+        _print_table(ds, sys.stdout)
+
+
+def _start_errors(func, *args, **kwargs):
+    """Call ``func``; a ValueError naming an API field is re-worded with the option that sets it."""
+    try:
+        return func(*args, **kwargs)
+    except ValueError as err:
+        field, sep, rest = str(err).partition(":")
+        if sep and field in _OPTIONS:
+            raise ValueError(f"{_OPTIONS[field]}:{rest}") from err
+        raise
+
+
+def _run_experiment(args):
+    from ._validate import read_yaml
     from .experiments import EXPERIMENTS
     from .io import write_dataset
 
-    with open(args.config, encoding="utf-8") as fh:
-        cfg = yaml.safe_load(fh)
-    if not isinstance(cfg, dict) or set(cfg) - {"experiment", "parameters"} or "experiment" not in cfg:
-        raise ValueError("config: expected a mapping with keys 'experiment' and 'parameters'")
+    cfg, where = read_yaml(args.config, "config")
+    if not isinstance(cfg, dict) or "experiment" not in cfg or set(cfg) - {"experiment", "parameters"}:
+        raise ValueError(f"{where}: expected a mapping with keys 'experiment' and (optionally) 'parameters', "
+                         f"got {_short(cfg)}")
     name = cfg["experiment"]
-    if name not in EXPERIMENTS:
-        raise ValueError(f"config.experiment: unknown experiment {name!r}; expected one of {sorted(EXPERIMENTS)}")
+    if not isinstance(name, str) or name not in EXPERIMENTS:
+        raise ValueError(f"{where}: experiment: unknown experiment {name!r}; expected one of {sorted(EXPERIMENTS)}")
     params = cfg.get("parameters") or {}
+    if not isinstance(params, dict):
+        raise ValueError(f"{where}: parameters: expected a mapping of keyword arguments, got {_short(params)}")
     try:
         ds = EXPERIMENTS[name](**params)
-    except TypeError as err:
-        raise ValueError(f"config.parameters: {err}") from None
+    except TypeError as err:  # an unknown or missing keyword
+        raise ValueError(f"{where}: parameters: {err}") from None
+    except ValueError as err:
+        raise ValueError(f"{where}: parameters: {err}") from None
     write_dataset(ds, args.output, config=cfg)
     print(f"wrote {name} to {args.output}")
+
+
+def _short(value, size=60):
+    text = repr(value)
+    return text if len(text) <= size else text[:size - 3] + "..."
 
 
 def _print_table(ds, out):
@@ -64,30 +136,40 @@ def _print_table(ds, out):
               f"final t={float(ds.t_final):.6g} x={float(ds.x_final):.6g} y={float(ds.y_final):.6g}\n")
 
 
-def main(argv=None):
-    args = _parser().parse_args(argv)
-    from .scenes import Scene
-    from .simulate import simulate
+COMMANDS = {"simulate": _simulate, "run": _run_experiment}
 
-    if args.command == "run":
-        try:
-            _run_experiment(args)
-        except (ValueError, OSError) as err:
-            print(f"noslipsim: error: {err}", file=sys.stderr)
-            return 2
-        return 0
-    try:
-        scene = Scene.from_yaml(args.scene)
-        ds = simulate(scene, args.position, args.velocity, args.spin, max_collisions=args.max_collisions,
-                      max_time=args.max_time, stop_below=args.stop_below)
-    except (ValueError, OSError) as err:
-        print(f"noslipsim: error: {err}", file=sys.stderr)
-        return 2
-    if args.output:
-        ds.to_netcdf(args.output)
-        print(f"wrote {int(ds.n_collisions)} collisions to {args.output} ({ds.attrs['stop_reason']})")
+
+# ---------------------------------------------------------------------------- entry point
+def _one_line(err):
+    """The message of an error on one line (an OSError as ``path: reason``)."""
+    if isinstance(err, OSError) and err.filename is not None and err.strerror:
+        text = f"{err.filename}: {err.strerror}"
     else:
-        _print_table(ds, sys.stdout)
+        text = str(err) or type(err).__name__
+    return " ".join(text.split())
+
+
+def main(argv=None):
+    """Run the command line; returns the exit status (0, 2 for a user error, 1 for a bug)."""
+    args = _parser().parse_args(argv)
+    try:
+        COMMANDS[args.command](args)
+    except (ValueError, TypeError, OSError) as err:
+        if args.debug:
+            raise
+        print(f"noslipsim: error: {_one_line(err)}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        if args.debug:
+            raise
+        print("noslipsim: interrupted", file=sys.stderr)
+        return 130
+    except Exception as err:  # a bug, not a user error: still one line, with the way to report it
+        if args.debug:
+            raise
+        print(f"noslipsim: internal error: {type(err).__name__}: {_one_line(err)} "
+              "(rerun with --debug for the traceback and report it)", file=sys.stderr)
+        return EXIT_INTERNAL
     return 0
 
 

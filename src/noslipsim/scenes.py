@@ -16,14 +16,13 @@ from __future__ import annotations
 
 import json
 import math
-import os
 from dataclasses import dataclass, field
 
 import numpy as np
 import yaml
 
 from ._unit import unit_pair
-from ._validate import finite_float, finite_vector, no_unknown_keys, required
+from ._validate import finite_float, finite_vector, no_unknown_keys, read_yaml, required
 from .core import layout
 from .core.laws import noslip_coefficients
 from .core.loop import kernel_flags
@@ -106,16 +105,29 @@ class Scene:
 
     @classmethod
     def from_yaml(cls, source):
-        """Read a scene from a YAML file path or a YAML string."""
-        text = os.fspath(source)
-        is_path = isinstance(source, os.PathLike) or ("\n" not in text and os.path.isfile(text))
-        if is_path:
-            with open(text, encoding="utf-8") as fh:
-                text = fh.read()
-        data = yaml.safe_load(text)
+        """Read a scene from a YAML file path or a YAML string.
+
+        Errors name the file and the field (``scene.yaml: elements[2].radius:
+        must be > 0, got -1``); the format is described in docs/scenes.md.
+
+        Raises
+        ------
+        FileNotFoundError
+            ``source`` is the path of a file that does not exist.
+        ValueError
+            Invalid YAML (with its line and column), or a scene that does not
+            validate.
+        """
+        data, where = read_yaml(source, "scene")
         if not isinstance(data, dict):
-            raise ValueError(f"scene: expected a YAML mapping (or the path of a file holding one), got {source!r}")
-        return cls.from_dict(data)
+            raise ValueError(f"{where}: expected a YAML mapping with keys {sorted(_SCENE_KEYS)}, "
+                             f"got {type(data).__name__}")
+        if where == "scene":
+            return cls.from_dict(data)
+        try:
+            return cls.from_dict(data)
+        except (ValueError, TypeError) as err:
+            raise type(err)(f"{where}: {err}") from None
 
     def to_dict(self):
         d = {"law": self.law, "gamma": self.gamma, "force": list(self.force),

@@ -94,7 +94,12 @@ def simulate(scene: Scene, position, velocity, spin=0.0, max_collisions=1000,
     level = -math.inf if stop_below is None else finite_float(stop_below, "stop_below")
     if level >= q[1]:
         raise ValueError(f"stop_below: {level} must lie below the start height {q[1]}")
-    rec = np.zeros((max_collisions, layout.N_LOG))
+    try:
+        rec = np.zeros((max_collisions, layout.N_LOG))
+    except MemoryError:
+        raise ValueError(f"max_collisions: a log of {max_collisions} collisions does not fit in memory "
+                         f"({max_collisions * layout.N_LOG * 8 / 2**30:.3g} GiB); for long orbits use "
+                         "simulate_many(..., record='final')") from None
     out = run_one(scene, q, v, w, max_collisions, max_time, level, layout.RECORD_LOG, rec)
     n, stop, n_corner, n_rec, final, cell = out
     return _orbit_dataset(scene, rec[:n_rec], stop, n_corner, final, cell,
