@@ -11,5 +11,9 @@ __all__ = ["two_disk_orbit", "wedge_orbit", "wedge_noforce_orbit", "bounce_orbit
 
 # -- stability grids, boundary portraits, Galton arrival curve --
 from .galton import arrival_curve
+from .portraits import (
+    birkhoff_coordinates, birkhoff_states, boundary_coordinate, reduced_portrait, reduced_states, velocity_portrait,
+)
 
-__all__ += ["arrival_curve"]
+__all__ += ["arrival_curve", "boundary_coordinate", "birkhoff_coordinates", "velocity_portrait",
+            "reduced_portrait", "birkhoff_states", "reduced_states"]
