@@ -1,0 +1,26 @@
+"""Figure helpers shared by every figure of the paper (and ``noslipsim plot``).
+
+Figure scripts read datasets and draw with these; they never simulate.
+
+- :func:`use_style`: the project's style file (:data:`STYLE`);
+- :func:`draw_table`: a table, every element kind, periodic scenes as a patch
+  of cells (:func:`scene_of` rebuilds a scene from a dataset's ``scene``
+  attribute);
+- :func:`draw_orbit`: an orbit's exact path, spin markers (:func:`draw_spin`),
+  start and end dots (:func:`mark_ends`);
+- :func:`draw_portrait`: a velocity portrait on the unit disk;
+- :func:`draw_stability_grid`: a 2D grid with a theoretical threshold;
+- :func:`save_figure`: PDF and PNG, byte-stable;
+- :func:`numbers_markdown`: the table of the paper's computed numbers.
+"""
+from .grids import draw_stability_grid
+from .numbers import numbers_markdown
+from .orbits import draw_orbit, draw_spin, mark_ends, orbit_nodes, orbit_path
+from .portraits import draw_portrait, portrait_points
+from .save import save_figure
+from .style import LAW_COLORS, STYLE, law_color, style_context, use_style
+from .table import auto_window, draw_table, scene_of
+
+__all__ = ["LAW_COLORS", "STYLE", "auto_window", "draw_orbit", "draw_portrait", "draw_spin",
+           "draw_stability_grid", "draw_table", "law_color", "mark_ends", "numbers_markdown", "orbit_nodes",
+           "orbit_path", "portrait_points", "save_figure", "scene_of", "style_context", "use_style"]

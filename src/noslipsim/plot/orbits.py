@@ -1,0 +1,220 @@
+r"""Draw orbits: the exact path between collisions, spin markers, start and end dots.
+
+Between collisions a particle flies on the parabola
+
+.. math::
+
+    q(t) = q_k + v_k (t - t_k) + \tfrac12 a (t - t_k)^2, \qquad t_k \le t \le t_{k+1},
+
+with ``a`` the scene's force, so the path is rebuilt from the collision log
+(docs/datasets.md) and sampled along every flight, not joined by straight
+chords.  The scaled spin ``w = gamma R omega`` (counter-clockwise positive,
+docs/conventions.md) is constant on a flight; a spin marker is the particle
+drawn as a small circle with an arrow inside that turns the way the particle
+spins, over an angle proportional to ``|w| / sqrt(|v|^2 + w^2)`` (the share of
+the speed carried by the spin).
+"""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+from matplotlib.patches import Circle as CirclePatch
+from matplotlib.patches import FancyArrowPatch
+from matplotlib.path import Path
+
+from .style import law_color
+from .table import scene_of
+
+#: Points sampled on each flight under a force (a straight flight needs two).
+POINTS_PER_FLIGHT = 24
+#: A spin arrow turns this many degrees when all of the speed is spin.
+SPIN_ARC_MAX = 300.0
+#: Spins below this share of the speed are drawn as a dot (no rotation).
+SPIN_ZERO = 1e-9
+
+_LOG = ("t", "x", "y", "vx", "vy", "spin")
+
+
+def _scalar(orbit, name):
+    value = np.asarray(orbit[name].values, dtype=float)
+    if value.ndim != 0:
+        raise ValueError(f"orbit.{name}: expected one orbit (a scalar), got shape {value.shape}; "
+                         "select one orbit first (ds.isel(orbit=i))")
+    return float(value)
+
+
+def _start(orbit):
+    """``(x, y, vx, vy, spin)`` at time 0."""
+    if "x_start" in orbit.variables:
+        return tuple(_scalar(orbit, f"{k}_start") for k in ("x", "y", "vx", "vy", "spin"))
+    if "start" in orbit.attrs:
+        start = json.loads(orbit.attrs["start"])
+        (x, y), (vx, vy) = start["position"], start["velocity"]
+        return float(x), float(y), float(vx), float(vy), float(start.get("spin", 0.0))
+    raise ValueError("orbit: no start state (variables x_start, y_start, vx_start, vy_start, spin_start "
+                     "or a 'start' attribute as written by noslipsim.simulate)")
+
+
+def orbit_nodes(orbit):
+    """The states that begin each flight of one orbit, and the end time.
+
+    Parameters
+    ----------
+    orbit : xarray.Dataset
+        One orbit: the output of :func:`noslipsim.simulate`, or one orbit of an
+        orbit set (:func:`noslipsim.experiments.orbit_set`, ``ds.isel(orbit=i)``):
+        the collision log ``t, x, y, vx, vy, spin`` along ``collision`` (NaN
+        padding after the end is dropped), ``t_final``, the start state and the
+        scene.
+
+    Returns
+    -------
+    dict
+        ``t, x, y, vx, vy, spin`` arrays (start, then every collision),
+        ``t_end`` and the force ``(a_x, a_y)``.
+
+    Raises
+    ------
+    ValueError
+        When a variable is missing or the dataset holds more than one orbit.
+    """
+    missing = [k for k in _LOG + ("t_final",) if k not in orbit.variables]
+    if missing:
+        raise ValueError(f"orbit: missing variables {missing} (expected a collision log, see docs/datasets.md)")
+    for k in _LOG:
+        if orbit[k].dims != ("collision",):
+            raise ValueError(f"orbit.{k}: expected dims ('collision',), got {orbit[k].dims}; "
+                             "select one orbit first (ds.isel(orbit=i))")
+    log = {k: np.asarray(orbit[k].values, dtype=float) for k in _LOG}
+    keep = np.isfinite(log["t"])
+    start = _start(orbit)
+    nodes = {k: np.concatenate([[s], log[k][keep]]) for k, s in zip(_LOG, (0.0,) + start)}
+    nodes["t_end"] = _scalar(orbit, "t_final")
+    nodes["force"] = scene_of(orbit).force
+    return nodes
+
+
+def orbit_path(orbit, points_per_flight=POINTS_PER_FLIGHT):
+    """The continuous path ``(x, y)`` of one orbit, every flight sampled on its parabola.
+
+    Parameters
+    ----------
+    orbit : xarray.Dataset
+        One orbit (see :func:`orbit_nodes`).
+    points_per_flight : int
+        Samples per flight under a force (>= 2); straight flights use their two ends.
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray)
+    """
+    if isinstance(points_per_flight, bool) or int(points_per_flight) != points_per_flight or points_per_flight < 2:
+        raise ValueError(f"points_per_flight: expected an integer >= 2, got {points_per_flight!r}")
+    n = orbit_nodes(orbit)
+    ax, ay = n["force"]
+    m = 2 if (ax, ay) == (0.0, 0.0) else int(points_per_flight)
+    t_next = np.append(n["t"][1:], n["t_end"])
+    dur = np.clip(t_next - n["t"], 0.0, None)
+    tau = dur[:, None] * np.linspace(0.0, 1.0, m)[None, :]
+    x = n["x"][:, None] + n["vx"][:, None] * tau + 0.5 * ax * tau ** 2
+    y = n["y"][:, None] + n["vy"][:, None] * tau + 0.5 * ay * tau ** 2
+    return x.ravel(), y.ravel()
+
+
+def _flight_midpoints(n):
+    """Position, velocity and spin at the middle of every flight."""
+    ax, ay = n["force"]
+    t_next = np.append(n["t"][1:], n["t_end"])
+    tau = 0.5 * np.clip(t_next - n["t"], 0.0, None)
+    x = n["x"] + n["vx"] * tau + 0.5 * ax * tau ** 2
+    y = n["y"] + n["vy"] * tau + 0.5 * ay * tau ** 2
+    return x, y, n["vx"] + ax * tau, n["vy"] + ay * tau, n["spin"]
+
+
+def draw_spin(ax, x, y, spin, speed, radius, *, color="k", linewidth=0.6, zorder=4):
+    """Draw the particle at ``(x, y)`` as a circle with an arrow showing its spin.
+
+    The arrow runs counter-clockwise for ``spin > 0`` and clockwise for
+    ``spin < 0``, over ``SPIN_ARC_MAX * |spin| / speed`` degrees; a spin below
+    ``SPIN_ZERO * speed`` is drawn as a dot.
+
+    Parameters
+    ----------
+    x, y : float
+        Centre (data units).
+    spin : float
+        Scaled spin ``w`` (counter-clockwise positive).
+    speed : float
+        ``sqrt(|v|^2 + w^2)``, the scale of the arrow (> 0).
+    radius : float
+        Radius of the drawn particle (data units, > 0).
+    """
+    if not (math.isfinite(radius) and radius > 0):
+        raise ValueError(f"radius: must be finite and > 0, got {radius}")
+    if not (math.isfinite(speed) and speed > 0):
+        raise ValueError(f"speed: must be finite and > 0, got {speed}")
+    ax.add_patch(CirclePatch((x, y), radius, fill=False, edgecolor=color, linewidth=linewidth, zorder=zorder))
+    share = min(abs(spin) / speed, 1.0)
+    if share < SPIN_ZERO:
+        ax.plot([x], [y], marker=".", markersize=1.5, color=color, zorder=zorder)
+        return
+    span = math.radians(SPIN_ARC_MAX * share) * math.copysign(1.0, spin)
+    ang = math.pi / 2 + np.linspace(0.0, span, 24)
+    r = 0.6 * radius
+    path = Path(np.c_[x + r * np.cos(ang), y + r * np.sin(ang)])
+    ax.add_patch(FancyArrowPatch(path=path, arrowstyle="-|>", mutation_scale=4, color=color,
+                                 linewidth=linewidth, shrinkA=0, shrinkB=0, zorder=zorder))
+
+
+def mark_ends(ax, start, end, *, color="k", size=4.5, zorder=5):
+    """Dots at the start (open) and the end (filled) of an orbit."""
+    ax.plot([start[0]], [start[1]], marker="o", markersize=size, markerfacecolor="white",
+            markeredgecolor=color, linestyle="none", zorder=zorder)
+    ax.plot([end[0]], [end[1]], marker="o", markersize=size, color=color, markeredgecolor=color,
+            linestyle="none", zorder=zorder)
+
+
+def draw_orbit(ax, orbit, *, color=None, linewidth=None, label=None, ends=True, spin_every=None,
+               spin_radius=None, points_per_flight=POINTS_PER_FLIGHT, alpha=1.0, zorder=2):
+    """Draw one orbit: its exact path, optional spin markers, start and end dots.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    orbit : xarray.Dataset
+        One orbit (see :func:`orbit_nodes`).
+    color : color, optional
+        Default: the colour of the scene's law (:data:`noslipsim.plot.LAW_COLORS`).
+    ends : bool
+        Mark the start (open dot) and the end (filled dot).
+    spin_every : int, optional
+        Draw a spin marker (:func:`draw_spin`) at the middle of every
+        ``spin_every``-th flight, starting with the first.
+    spin_radius : float, optional
+        Radius of the spin markers (data units); default 3 % of the larger
+        side of the path's bounding box.
+
+    Returns
+    -------
+    matplotlib.lines.Line2D
+        The path.
+    """
+    n = orbit_nodes(orbit)
+    color = law_color(scene_of(orbit).law) if color is None else color
+    x, y = orbit_path(orbit, points_per_flight)
+    (line,) = ax.plot(x, y, color=color, linewidth=linewidth, label=label, alpha=alpha, zorder=zorder)
+    if spin_every is not None:
+        if isinstance(spin_every, bool) or int(spin_every) != spin_every or spin_every < 1:
+            raise ValueError(f"spin_every: expected a positive integer, got {spin_every!r}")
+        if spin_radius is None:
+            spin_radius = 0.03 * max(np.ptp(x), np.ptp(y), 1e-12)
+        mx, my, mvx, mvy, mw = _flight_midpoints(n)
+        for k in range(0, len(mx), int(spin_every)):
+            speed = math.sqrt(mvx[k] ** 2 + mvy[k] ** 2 + mw[k] ** 2)
+            if speed > 0:
+                draw_spin(ax, mx[k], my[k], mw[k], speed, spin_radius, color=color, zorder=zorder + 2)
+    if ends:
+        mark_ends(ax, (x[0], y[0]), (x[-1], y[-1]), color=color, zorder=zorder + 3)
+    return line

@@ -1,0 +1,223 @@
+"""Draw a billiard table: every element kind, and periodic scenes as a patch of cells.
+
+Walls are drawn as lines with the side away from the table shaded (infinite
+lines) or as plain curves (segments, arcs, containers); scatterers (circles
+with the table outside) are filled discs.  A periodic scene is drawn as every
+copy of its elements that meets the view window.  The element kinds and the
+scene format are described in docs/scenes.md.
+"""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+from matplotlib.collections import LineCollection, PatchCollection
+from matplotlib.patches import Arc as ArcPatch
+from matplotlib.patches import Circle as CirclePatch
+from matplotlib.patches import Polygon
+
+from ..elements import Arc, Circle, Line, Segment
+from ..lattice import lattice_matrix
+from ..scenes import Scene
+from .style import SCATTERER_COLOR, WALL_COLOR
+
+#: Relative margin around the elements when the window is chosen automatically.
+AUTO_MARGIN = 0.05
+#: At most this many lattice cells are drawn (a larger window is almost surely a mistake).
+MAX_CELLS = 20_000
+
+
+def scene_of(source):
+    """The :class:`~noslipsim.Scene` behind a dataset, a JSON string, a mapping or a scene.
+
+    Parameters
+    ----------
+    source : Scene, xarray.Dataset, xarray.DataArray, str or dict
+        A dataset carrying the scene as JSON (its ``scene`` attribute, as
+        written by :func:`noslipsim.simulate` and :func:`noslipsim.simulate_many`,
+        or a 0-d ``scene`` variable of an orbit set), the JSON text itself,
+        or the scene's mapping form (docs/scenes.md).
+
+    Raises
+    ------
+    ValueError
+        When no scene can be found or the scene does not validate.
+    """
+    if isinstance(source, Scene):
+        return source
+    if isinstance(source, dict):
+        return Scene.from_dict(source)
+    if isinstance(source, str):
+        try:
+            return Scene.from_dict(json.loads(source))
+        except json.JSONDecodeError as err:
+            raise ValueError(f"scene: not valid JSON ({err})") from None
+    if hasattr(source, "attrs") and hasattr(source, "variables"):  # a Dataset
+        if "scene" in source.variables and source["scene"].ndim == 0:
+            return scene_of(str(source["scene"].values))
+        if "scene" in source.attrs:
+            return scene_of(source.attrs["scene"])
+    elif hasattr(source, "attrs") and "scene" in source.attrs:
+        return scene_of(source.attrs["scene"])
+    raise ValueError(f"scene: expected a Scene, its JSON or a dataset with a 'scene' attribute, "
+                     f"got {type(source).__name__}")
+
+
+def _window(window):
+    try:
+        x0, x1, y0, y1 = (float(v) for v in window)
+    except (TypeError, ValueError):
+        raise ValueError(f"window: expected (x0, x1, y0, y1), got {window!r}") from None
+    if not all(map(math.isfinite, (x0, x1, y0, y1))) or not (x1 > x0 and y1 > y0):
+        raise ValueError(f"window: expected finite (x0, x1, y0, y1) with x1 > x0 and y1 > y0, got {window!r}")
+    return x0, x1, y0, y1
+
+
+def auto_window(scene):
+    """The bounding box ``(x0, x1, y0, y1)`` of a plain scene's elements, with a small margin.
+
+    Raises
+    ------
+    ValueError
+        For a scene with infinite lines or a lattice (no natural window).
+    """
+    if scene.lattice is not None or any(isinstance(e, Line) for e in scene.elements):
+        raise ValueError("window: a scene with infinite lines or a lattice needs an explicit window "
+                         "(x0, x1, y0, y1)")
+    boxes = np.array([e.bbox() for e in scene.elements])
+    x0, y0 = boxes[:, 0].min(), boxes[:, 1].min()
+    x1, y1 = boxes[:, 2].max(), boxes[:, 3].max()
+    m = AUTO_MARGIN * max(x1 - x0, y1 - y0)
+    return x0 - m, x1 + m, y0 - m, y1 + m
+
+
+def _clip_half_plane(box, point, normal):
+    """The part of the window on the wall side of a line (``(p - point) . normal <= 0``), as a polygon."""
+    x0, x1, y0, y1 = box
+    poly = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
+    side = [(px - point[0]) * normal[0] + (py - point[1]) * normal[1] for px, py in poly]
+    out = []
+    for i in range(4):
+        p, q = poly[i], poly[(i + 1) % 4]
+        sp, sq = side[i], side[(i + 1) % 4]
+        if sp <= 0:
+            out.append(p)
+        if (sp < 0 < sq) or (sq < 0 < sp):
+            f = sp / (sp - sq)
+            out.append((p[0] + f * (q[0] - p[0]), p[1] + f * (q[1] - p[1])))
+    return out
+
+
+def _clip_line(box, point, direction):
+    """The chord of the line ``point + s direction`` inside the window (Liang-Barsky), or None."""
+    x0, x1, y0, y1 = box
+    lo, hi = -math.inf, math.inf
+    for p, d, a, b in ((point[0], direction[0], x0, x1), (point[1], direction[1], y0, y1)):
+        if d == 0.0:
+            if not a <= p <= b:
+                return None
+            continue
+        s0, s1 = sorted(((a - p) / d, (b - p) / d))
+        lo, hi = max(lo, s0), min(hi, s1)
+    if not lo < hi:
+        return None
+    return [(point[0] + lo * direction[0], point[1] + lo * direction[1]),
+            (point[0] + hi * direction[0], point[1] + hi * direction[1])]
+
+
+def _copies(scene, box):
+    """``(element, dx, dy)`` for every copy of every element whose bounding box meets the window."""
+    if scene.lattice is None:
+        return [(e, 0.0, 0.0) for e in scene.elements]
+    A, B = lattice_matrix(scene.lattice)
+    x0, x1, y0, y1 = box
+    out = []
+    for e in scene.elements:
+        ex0, ey0, ex1, ey1 = e.bbox()
+        # translations t with the element box shifted by t meeting the window
+        corners = np.array([[x0 - ex1, y0 - ey1], [x1 - ex0, y0 - ey1], [x0 - ex1, y1 - ey0], [x1 - ex0, y1 - ey0]])
+        lat = corners @ B.T
+        lo, hi = np.floor(lat.min(axis=0)).astype(int), np.ceil(lat.max(axis=0)).astype(int)
+        if (hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) > MAX_CELLS:
+            raise ValueError(f"window: {box} spans more than {MAX_CELLS} lattice cells")
+        for n1 in range(lo[0], hi[0] + 1):
+            for n2 in range(lo[1], hi[1] + 1):
+                dx, dy = A @ np.array([n1, n2], float)
+                if ex1 + dx >= x0 and ex0 + dx <= x1 and ey1 + dy >= y0 and ey0 + dy <= y1:
+                    out.append((e, float(dx), float(dy)))
+    return out
+
+
+def draw_table(ax, scene, window=None, *, wall_color=WALL_COLOR, scatterer_color=SCATTERER_COLOR,
+               linewidth=1.0, zorder=1):
+    """Draw a table on ``ax`` and set the view to ``window`` with equal aspect.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    scene : Scene, xarray.Dataset or str
+        The scene, or anything :func:`scene_of` accepts (a dataset's ``scene``
+        attribute rebuilds it).
+    window : (x0, x1, y0, y1), optional
+        The region shown.  Default: the elements' bounding box, for plain
+        scenes without infinite lines; required otherwise.
+    wall_color, scatterer_color : color
+        Walls and the inside of scatterers.
+    linewidth : float
+        Width of walls and outlines (points).
+
+    Returns
+    -------
+    tuple
+        ``(x0, x1, y0, y1)``, the window drawn.
+
+    Raises
+    ------
+    ValueError
+        For a malformed window, a scene that cannot be rebuilt, or a missing
+        window where one is needed.
+    """
+    scene = scene_of(scene)
+    box = auto_window(scene) if window is None else _window(window)
+    x0, x1, y0, y1 = box
+    discs, curves, walls, shades = [], [], [], []
+    for e, dx, dy in _copies(scene, box):
+        if isinstance(e, Line):
+            p = (e.point[0] + dx, e.point[1] + dy)
+            shade = _clip_half_plane(box, p, e.normal)
+            if len(shade) >= 3:
+                shades.append(Polygon(shade, closed=True))
+            seg = _clip_line(box, p, (-e.normal[1], e.normal[0]))
+            if seg is not None:
+                walls.append(seg)
+        elif isinstance(e, Segment):
+            walls.append([(e.p0[0] + dx, e.p0[1] + dy), (e.p1[0] + dx, e.p1[1] + dy)])
+        elif isinstance(e, Circle):
+            c = (e.center[0] + dx, e.center[1] + dy)
+            if e.side == "outside":
+                discs.append(CirclePatch(c, e.radius))
+            else:
+                curves.append(CirclePatch(c, e.radius, fill=False))
+        elif isinstance(e, Arc):
+            c = (e.center[0] + dx, e.center[1] + dy)
+            curves.append(ArcPatch(c, 2 * e.radius, 2 * e.radius, theta1=math.degrees(e.theta0),
+                                   theta2=math.degrees(e.theta1)))
+        else:  # pragma: no cover - every element kind is handled above
+            raise TypeError(f"scene: cannot draw element of type {type(e).__name__}")
+    if shades:
+        ax.add_collection(PatchCollection(shades, facecolor=scatterer_color, edgecolor="none",
+                                          alpha=0.5, zorder=zorder))
+    if discs:
+        ax.add_collection(PatchCollection(discs, facecolor=scatterer_color, edgecolor=wall_color,
+                                          linewidth=linewidth, zorder=zorder))
+    for patch in curves:
+        patch.set(edgecolor=wall_color, linewidth=linewidth, zorder=zorder)
+        ax.add_patch(patch)
+    if walls:
+        ax.add_collection(LineCollection(walls, colors=wall_color, linewidths=linewidth, zorder=zorder,
+                                         capstyle="round"))
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_aspect("equal")
+    return box

@@ -1,0 +1,225 @@
+"""noslipsim.plot: every element kind draws, paths follow the exact flights, saved bytes are stable."""
+import json
+import math
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+import xarray as xr  # noqa: E402
+from matplotlib.collections import LineCollection, PatchCollection  # noqa: E402
+from matplotlib.patches import FancyArrowPatch  # noqa: E402
+
+import noslipsim as ns  # noqa: E402
+from noslipsim import plot, tables  # noqa: E402
+from noslipsim.elements import Arc, Circle, Line, Segment  # noqa: E402
+from noslipsim.plot.numbers import check_record  # noqa: E402
+
+
+@pytest.fixture
+def ax():
+    fig, ax = plt.subplots()
+    yield ax
+    plt.close(fig)
+
+
+def every_kind():
+    """A scene with one element of every kind (a box with a scatterer, an arc cap and a container)."""
+    return ns.Scene((Line((0.0, 0.0), (0.0, 1.0)),
+                     Segment((2.0, 0.0), (2.0, 1.0), "right"),
+                     Circle((1.0, 0.5), 0.2, "outside"),
+                     Circle((1.0, 0.5), 3.0, "inside"),
+                     Arc((1.0, 1.0), 1.0, 0.0, math.pi, "inside")))
+
+
+def test_every_element_kind_draws(ax):
+    box = plot.draw_table(ax, every_kind(), window=(-1, 3, -1, 2.5))
+    assert box == (-1, 3, -1, 2.5) and ax.get_xlim() == (-1, 3) and ax.get_aspect() == 1.0
+    walls = [c for c in ax.collections if isinstance(c, LineCollection)]
+    fills = [c for c in ax.collections if isinstance(c, PatchCollection)]
+    assert len(walls) == 1 and len(walls[0].get_segments()) == 2      # the line's chord and the segment
+    chord = walls[0].get_segments()[0]
+    np.testing.assert_allclose(sorted(chord[:, 0]), [-1, 3]) and np.testing.assert_allclose(chord[:, 1], 0)
+    assert len(fills) == 2                                             # the shaded wall side and the disc
+    assert len(ax.patches) == 2                                        # the container circle and the arc
+    # the shaded side of the floor is below it: y <= 0
+    shade = fills[0].get_paths()[0].vertices
+    assert shade[:, 1].max() <= 0 and shade[:, 1].min() == -1
+
+
+def test_line_outside_the_window_draws_no_chord(ax):
+    scene = ns.Scene((Line((0.0, 5.0), (0.0, -1.0)), Circle((0.0, 0.0), 0.5)))
+    plot.draw_table(ax, scene, window=(-1, 1, -1, 1))
+    assert not [c for c in ax.collections if isinstance(c, LineCollection)]
+
+
+def test_lattice_draws_every_peg_in_the_window(ax):
+    board = tables.galton_board(2.0, 0.5, 1.0)
+    plot.draw_table(ax, board, window=(-4.0, 4.0, -4.0, 0.5))
+    discs = [c for c in ax.collections if isinstance(c, PatchCollection)][0]
+    centres = np.array([(p.vertices.min(axis=0) + p.vertices.max(axis=0)) / 2 for p in discs.get_paths()])
+    # the pegs whose disc meets the window, counted directly on the lattice
+    want = {(round(2 * i + j, 6), round(j * math.sqrt(3), 6)) for i in range(-10, 11) for j in range(-10, 11)
+            if -4.5 <= 2 * i + j <= 4.5 and -4.5 <= j * math.sqrt(3) <= 1.0}
+    got = {(round(x, 6), round(y, 6)) for x, y in centres}
+    assert len(centres) == len(want) and got == want
+
+
+def test_scene_rebuilds_from_a_dataset_json_and_mapping():
+    scene = every_kind()
+    orbit = ns.simulate(tables.rectangle(2.0, 1.0), (0.5, 0.5), (1.0, 0.3), max_collisions=3)
+    assert plot.scene_of(orbit) == tables.rectangle(2.0, 1.0)
+    assert plot.scene_of(scene.to_json()) == scene and plot.scene_of(scene.to_dict()) == scene
+    with pytest.raises(ValueError, match="scene"):
+        plot.scene_of(xr.Dataset())
+    with pytest.raises(ValueError, match="JSON"):
+        plot.scene_of("{not json")
+
+
+def test_bad_windows_are_refused(ax):
+    with pytest.raises(ValueError, match="window"):
+        plot.draw_table(ax, tables.half_plane())                     # a line needs a window
+    with pytest.raises(ValueError, match="window"):
+        plot.draw_table(ax, tables.galton_board(), window=(1, 0, 0, 1))
+    with pytest.raises(ValueError, match="window"):
+        plot.draw_table(ax, tables.galton_board(), window=(0, 1, 0))
+    with pytest.raises(ValueError, match="cells"):
+        plot.draw_table(ax, tables.galton_board(), window=(-1e4, 1e4, -1e4, 1e4))
+
+
+def test_orbit_path_follows_the_exact_flights_and_stays_on_the_table():
+    board = tables.galton_board(2.0, 0.9, 1.0, gamma=1.0)
+    orbit = ns.simulate(board, (1.0, 0.0), (0.6, 0.8), 0.2, max_collisions=200, stop_below=-12.0)
+    x, y = plot.orbit_path(orbit, points_per_flight=9)
+    assert (x[0], y[0]) == (1.0, 0.0)
+    assert (x[-1], y[-1]) == pytest.approx((float(orbit.x_final), float(orbit.y_final)), abs=1e-9)
+    # every collision point is a sample (the end of a flight) and no sample leaves the table
+    pts = np.c_[x, y]
+    for k in range(int(orbit.n_collisions)):
+        assert np.hypot(x - float(orbit.x[k]), y - float(orbit.y[k])).min() < 1e-9
+    assert (board.depth(pts) > -1e-9).all()
+    # the samples of the first flight lie on the parabola of the start state
+    tau = np.linspace(0.0, float(orbit.t[0]), 9)
+    np.testing.assert_allclose(x[:9], 1.0 + 0.6 * tau, atol=1e-12)
+    np.testing.assert_allclose(y[:9], 0.8 * tau - 0.5 * tau ** 2, atol=1e-12)
+
+
+def test_straight_flights_use_two_points():
+    orbit = ns.simulate(tables.rectangle(2.0, 1.0), (0.5, 0.5), (1.0, 0.3), max_collisions=5)
+    x, _ = plot.orbit_path(orbit)
+    assert len(x) == 2 * 6
+
+
+def test_orbit_inputs_are_checked(ax):
+    ens = ns.simulate_many(tables.rectangle(2.0, 1.0), [[0.5, 0.5]] * 2, [[1.0, 0.3]] * 2, record="log",
+                           max_collisions=3)
+    with pytest.raises(ValueError, match="one orbit"):
+        plot.draw_orbit(ax, ens)
+    with pytest.raises(ValueError, match="start state"):
+        plot.draw_orbit(ax, ens.isel(orbit=0))
+    with pytest.raises(ValueError, match="missing"):
+        plot.draw_orbit(ax, xr.Dataset())
+    orbit = ns.simulate(tables.rectangle(2.0, 1.0), (0.5, 0.5), (1.0, 0.3), max_collisions=3)
+    with pytest.raises(ValueError, match="spin_every"):
+        plot.draw_orbit(ax, orbit, spin_every=0)
+    with pytest.raises(ValueError, match="points_per_flight"):
+        plot.orbit_path(orbit, points_per_flight=1)
+
+
+def _arrow_turn(ax):
+    """Signed angle swept by the (only) spin arrow, about its circle's centre."""
+    arrow = [p for p in ax.patches if isinstance(p, FancyArrowPatch)][-1]
+    verts = arrow.get_path().vertices
+    centre = ax.patches[-2].center
+    ang = np.unwrap(np.arctan2(verts[:, 1] - centre[1], verts[:, 0] - centre[0]))
+    return ang.max() - ang.min(), np.sign(np.diff(ang)).mean()
+
+
+def test_spin_arrow_turns_with_the_spin(ax):
+    plot.draw_spin(ax, 0.0, 0.0, 0.5, 1.0, 0.1)
+    span, direction = _arrow_turn(ax)
+    assert direction > 0                                              # counter-clockwise for w > 0
+    plot.draw_spin(ax, 1.0, 0.0, -1.0, 1.0, 0.1)
+    span_full, direction = _arrow_turn(ax)
+    assert direction < 0 and span_full > span                          # larger spin, longer arrow
+    assert span == pytest.approx(math.radians(plot.orbits.SPIN_ARC_MAX * 0.5), rel=0.1)
+    with pytest.raises(ValueError, match="radius"):
+        plot.draw_spin(ax, 0, 0, 1.0, 1.0, 0.0)
+
+
+def test_orbit_draws_spin_markers_and_end_dots(ax):
+    scene = tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.2)])
+    orbit = ns.simulate(scene, (0.05, 0.5), (1.0, 0.37), 0.5, max_collisions=6)
+    line = plot.draw_orbit(ax, orbit, spin_every=2)
+    assert line.get_color() == plot.LAW_COLORS["no-slip"]
+    assert len([p for p in ax.patches if isinstance(p, FancyArrowPatch)]) == 4   # flights 0, 2, 4, 6
+    assert len(ax.lines) == 3                                          # the path and two end dots
+
+
+def test_portrait_on_the_unit_disk(ax):
+    from noslipsim.experiments import phase_portrait
+
+    pp = phase_portrait(tables.regular_polygon(4), n_orbits=3, n_collisions=50, seed=1)
+    pts = plot.draw_portrait(ax, pp)
+    assert len(pts.get_offsets()) == 150
+    bad = pp.copy()
+    bad["w_unit"] = bad.w_unit * 2 + 1
+    with pytest.raises(ValueError, match="unit disk"):
+        plot.draw_portrait(ax, bad)
+    with pytest.raises(ValueError, match="vt_unit"):
+        plot.draw_portrait(ax, pp.drop_vars("vt_unit"))
+
+
+def test_stability_grid_and_threshold(ax):
+    grid = xr.DataArray(np.arange(12.0).reshape(3, 4), dims=("R", "phi"),
+                        coords={"R": [1.0, 2.0, 3.0], "phi": [0.1, 0.2, 0.3, 0.4]})
+    mesh = plot.draw_stability_grid(ax, grid, threshold=([0.0, 1.0], [1.5, 2.5]))
+    assert mesh.get_array().size == 12 and len(ax.lines) == 1
+    assert ax.get_xlim() == pytest.approx((0.05, 0.45))               # the threshold does not widen the view
+    with pytest.raises(ValueError, match="2D"):
+        plot.draw_stability_grid(ax, grid.isel(R=0))
+    with pytest.raises(ValueError, match="monotonic"):
+        plot.draw_stability_grid(ax, grid.assign_coords(phi=[0.1, 0.3, 0.2, 0.4]))
+    with pytest.raises(ValueError, match="threshold"):
+        plot.draw_stability_grid(ax, grid, threshold=([0.0, 1.0], [1.0]))
+
+
+def _figure():
+    fig, ax = plt.subplots(figsize=(3, 2))
+    plot.draw_table(ax, tables.galton_board(2.0, 0.9), window=(-3, 3, -3, 1))
+    orbit = ns.simulate(tables.galton_board(2.0, 0.9), (1.0, 0.0), (0.6, 0.8), max_collisions=30)
+    plot.draw_orbit(ax, orbit, spin_every=3)
+    ax.set_title("noslipsim")
+    return fig
+
+
+def test_saved_bytes_are_identical_and_unstamped(tmp_path):
+    with plot.style_context():
+        a = plot.save_figure(_figure(), tmp_path / "a" / "fig")
+        b = plot.save_figure(_figure(), tmp_path / "b" / "fig.png")
+    assert [p.name for p in a] == ["fig.pdf", "fig.png"]
+    for pa, pb in zip(a, b):
+        assert pa.read_bytes() == pb.read_bytes()
+    pdf, png = a[0].read_bytes(), a[1].read_bytes()
+    assert b"CreationDate" not in pdf and b"matplotlib" not in pdf.lower()
+    assert b"Software" not in png and b"tIME" not in png and b"matplotlib" not in png.lower()
+    with pytest.raises(TypeError, match="Figure"):
+        plot.save_figure("not a figure", tmp_path / "x")
+
+
+def test_numbers_table():
+    numbers = {"galton": {"share": {"description": "share not arrived", "value": 0.4213, "format": ".1%",
+                                    "stderr": 0.0049, "paper": "roughly 40 %"},
+                          "pattern": {"description": "pattern", "value": "stable | unstable"}}}
+    text = plot.numbers_markdown(numbers)
+    assert "| galton | share not arrived | 42.1% ± 0.5% | roughly 40 % |" in text
+    assert "stable \\| unstable" in text
+    with pytest.raises(ValueError, match="missing"):
+        check_record("k", {"value": 1.0})
+    with pytest.raises(ValueError, match="finite"):
+        check_record("k", {"description": "d", "value": math.nan})
+    with pytest.raises(ValueError, match="unknown"):
+        check_record("k", {"description": "d", "value": 1.0, "colour": "red"})
+    assert json.loads(json.dumps(numbers)) == numbers
