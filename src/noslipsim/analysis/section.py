@@ -1,0 +1,170 @@
+r"""The boundary section: reduced coordinates ``(s, w, v_t)``, boundary frames, runs from a boundary state.
+
+A post-collision state on element ``e`` is given by its arclength ``s``
+(the kernel's coordinate, :func:`noslipsim.core.geometry.arclength`), the
+scaled spin ``w`` and the tangential velocity ``v_t = v . t``; at fixed energy
+``E = (|v|^2 + w^2)/2 - a . q`` the normal component follows,
+
+.. math::
+
+    v_n = -\sqrt{2 (E + a \cdot q(s)) - w^2 - v_t^2} \qquad (\text{into the table: } v \cdot n < 0),
+
+with ``n`` the outward normal and ``t = J n`` (docs/conventions.md).  Along
+the boundary the frame turns: moving a distance ``l`` along ``t``,
+
+.. math::
+
+    \frac{dn}{dl} = k\, t, \qquad \frac{dt}{dl} = -k\, n, \qquad \frac{ds}{dl} = \sigma = \pm 1,
+
+with ``k = 0`` on lines and segments and ``k = -sigma_c / r`` on circles and
+arcs (``sigma_c = +1`` for a scatterer, ``-1`` for a container); ``sigma``
+says whether the kernel's ``s`` runs along ``t`` or against it.  Derivation:
+docs/analysis.md.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..core import layout
+from ..core.loop import orbit_kernel
+from ..scenes import Scene
+from ..simulate import check_limits, check_start, run_one, start_cell
+
+TWO_PI = 2.0 * math.pi
+
+
+def boundary_frames(scene: Scene, element, s):
+    """Geometry at boundary points given by element index and arclength, vectorised.
+
+    Parameters
+    ----------
+    scene : Scene
+    element : int array (N,)
+        Element indices.
+    s : float array (N,)
+        Kernel arclength coordinates on those elements.
+
+    Returns
+    -------
+    point : (N, 2)
+        The boundary point, in the element's own coordinates (cell 0 of a lattice).
+    t, n : (N, 2)
+        Tangent ``t = J n`` and outward unit normal ``n``.
+    turn : (N,)
+        ``k`` with ``dn/dl = k t`` along ``t`` (0 on straight pieces, ``-sigma_c/r`` on circles).
+    sigma : (N,)
+        ``ds/dl``, +1 or -1.
+    """
+    kinds, params = scene.kernel_inputs()[:2]
+    e = np.asarray(element, dtype=np.int64)
+    s = np.asarray(s, dtype=float)
+    k = kinds[e]
+    p = params[e]
+    straight = (k == layout.LINE) | (k == layout.SEGMENT)
+    # straight pieces: n_out = -n_in; t = J n_out; s measured from the piece's point along t (line)
+    # or along p0 -> p1 (segment)
+    n_in = p[:, 2:4]
+    t_flat = np.c_[n_in[:, 1], -n_in[:, 0]]
+    u = np.where((k == layout.SEGMENT)[:, None], p[:, 4:6], t_flat)
+    sigma_flat = np.sum(u * t_flat, axis=1)
+    pt_flat = p[:, 0:2] + s[:, None] * u
+    # round pieces: point c + r e(theta); n_out = -sigma_c e; t = -sigma_c e_theta; s = r (theta - theta0)
+    r = np.where(straight, 1.0, p[:, 2])
+    sig = p[:, 3]
+    theta0 = np.where(k == layout.ARC, p[:, 4], 0.0)
+    theta = theta0 + s / r
+    er = np.c_[np.cos(theta), np.sin(theta)]
+    eth = np.c_[-er[:, 1], er[:, 0]]
+    pt_round = p[:, 0:2] + r[:, None] * er
+    n_round = -sig[:, None] * er
+    t_round = -sig[:, None] * eth
+    m = straight[:, None]
+    point = np.where(m, pt_flat, pt_round)
+    n = np.where(m, -n_in, n_round)
+    t = np.where(m, t_flat, t_round)
+    turn = np.where(straight, 0.0, -sig / r)
+    sigma = np.where(straight, sigma_flat, -sig)
+    return point, t, n, turn, sigma
+
+
+def boundary_length(scene: Scene, element):
+    """Length of element ``element`` (``inf`` for lines; the arclength period of a full circle)."""
+    return scene.elements[int(element)].length()
+
+
+def wrap_difference(scene: Scene, element, ds):
+    """``ds`` reduced to ``(-L/2, L/2]`` on a full circle of circumference ``L`` (other kinds unchanged)."""
+    if scene.elements[int(element)].kind != layout.CIRCLE:
+        return ds
+    L = boundary_length(scene, element)
+    return ds - L * np.round(ds / L)
+
+
+# ----------------------------------------------------------------------------- runs
+def interior_log(scene: Scene, position, velocity, spin, n):
+    """Collision log (``layout.LOG_*`` columns) of the orbit from an interior start, up to ``n`` collisions.
+
+    Returns ``(log, stop_reason)``; positions unfolded, cells absolute.
+    """
+    q, v, w = check_start(scene, position, velocity, spin)
+    n, _ = check_limits(n, math.inf)
+    rec = np.zeros((n, layout.N_LOG))
+    _, stop, _, n_rec, _, _ = run_one(scene, q, v, w, n, math.inf, -math.inf, layout.RECORD_LOG, rec)
+    return rec[:n_rec], layout.STOP_REASONS[stop]
+
+
+def boundary_log(scene: Scene, element, q, v, w, n):
+    """Collision log of the orbit leaving boundary point ``q`` of ``element`` (cell 0) with ``(v, w)``.
+
+    The start is treated as just reflected by ``element`` (its ``t = 0`` root
+    is deflated by the kernel).  Returns ``(log, stop_reason)``.
+    """
+    kinds, params, copies, A, B, lattice, jstart, jpts = scene.kernel_inputs()
+    cell, _, _ = start_cell(scene, np.asarray(q, float))
+    if lattice and cell.any():
+        raise ValueError(f"position: the boundary point {list(q)} of element {element} lies outside cell 0 "
+                         "of the lattice; choose an element copy inside cell 0")
+    mask = np.zeros(len(kinds), dtype=np.bool_)
+    c, s = scene.noslip_coefficients
+    ax, ay = scene.force
+    rec = np.zeros((n, layout.N_LOG))
+    kernel = orbit_kernel(*scene.kernel_variant(layout.RECORD_LOG))
+    _, stop, _, n_rec, *_ = kernel(kinds, params, copies, A, B, lattice, jstart, jpts, scene.law_code, c, s,
+                                   ax, ay, float(q[0]), float(q[1]), float(v[0]), float(v[1]), float(w), n,
+                                   math.inf, -math.inf, scene.scale, layout.RECORD_LOG, rec, mask, int(element))
+    return rec[:n_rec], layout.STOP_REASONS[stop]
+
+
+# ----------------------------------------------------------------------------- conversions
+def reduced_from_log(scene: Scene, log):
+    """``(element, s, w, v_t)`` of the post-collision states of a log (arrays)."""
+    e = log[:, layout.LOG_ELEMENT].astype(np.int64)
+    s = log[:, layout.LOG_S]
+    _, t, _, _, _ = boundary_frames(scene, e, s)
+    vt = log[:, layout.LOG_VX] * t[:, 0] + log[:, layout.LOG_VY] * t[:, 1]
+    return e, s, log[:, layout.LOG_W].copy(), vt
+
+
+def energy_at(scene: Scene, point, velocity, spin):
+    """``E = (|v|^2 + w^2)/2 - a . q`` with ``q`` in the element's own (cell-0) coordinates."""
+    ax, ay = scene.force
+    return 0.5 * (velocity[0] ** 2 + velocity[1] ** 2 + spin ** 2) - (ax * point[0] + ay * point[1])
+
+
+def state_from_reduced(scene: Scene, element, s, w, vt, energy):
+    """The post-collision phase-space state ``(q, v, w)`` of reduced coordinates at energy ``energy``.
+
+    Returns ``None`` where ``(w, v_t)`` leave no kinetic energy for ``v_n``
+    (outside the energy surface).
+    """
+    point, t, n, _, _ = boundary_frames(scene, np.array([element]), np.array([float(s)]))
+    q = point[0]
+    ax, ay = scene.force
+    kin2 = 2.0 * (energy + ax * q[0] + ay * q[1]) - w * w - vt * vt
+    if not kin2 > 0.0:
+        return None
+    vn = -math.sqrt(kin2)
+    v = vt * t[0] + vn * n[0]
+    return q, v, float(w)
