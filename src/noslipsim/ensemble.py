@@ -106,17 +106,19 @@ def _run_chunk(inputs, variant, law, c, s, force, scale, starts, on, levels, max
     return rec, final
 
 
-def _compute(tasks, scheduler, progress):
+def _compute(tasks, scheduler, progress, num_workers=None):
     """Compute dask tasks on the chosen scheduler; a Client made here from an address is closed here."""
     import dask
 
     show = sys.stderr.isatty() if progress is None else bool(progress)
     if scheduler is None or scheduler in ("threads", "sync", "synchronous"):
+        # num_workers sizes the local thread pool (None: one thread per core)
+        kw = {"num_workers": num_workers} if num_workers is not None and scheduler in (None, "threads") else {}
         if show:
             from dask.diagnostics import ProgressBar
             with ProgressBar(out=sys.stderr):
-                return dask.compute(*tasks, scheduler=scheduler or "threads")
-        return dask.compute(*tasks, scheduler=scheduler or "threads")
+                return dask.compute(*tasks, scheduler=scheduler or "threads", **kw)
+        return dask.compute(*tasks, scheduler=scheduler or "threads", **kw)
     from distributed import Client, progress as dprogress
 
     if isinstance(scheduler, str):
@@ -138,7 +140,7 @@ def _on_client(client, tasks, show, dprogress):
 # ---------------------------------------------------------------------------- public API
 def simulate_many(scene: Scene, positions, velocities, spins=None, *, max_collisions=1000,
                   max_time=math.inf, stop_below=None, record="final", elements=None,
-                  start_elements=None, chunk_size=None, scheduler=None, progress=None):
+                  start_elements=None, chunk_size=None, scheduler=None, progress=None, num_workers=None):
     """Simulate many orbits of one scene.
 
     Parameters
@@ -174,6 +176,10 @@ def simulate_many(scene: Scene, positions, velocities, spins=None, *, max_collis
         compiled call, no dask), a ``dask.distributed`` Client or its address.
     progress : bool, optional
         Show a progress bar (default: only when stderr is a terminal).
+    num_workers : int, optional
+        Threads of the local threaded scheduler (default: one per core); a
+        workflow job passes the threads it was given.  Ignored by the other
+        schedulers.  The results do not depend on it.
 
     Returns
     -------
@@ -189,6 +195,9 @@ def simulate_many(scene: Scene, positions, velocities, spins=None, *, max_collis
     if chunk_size is not None and (isinstance(chunk_size, bool) or not isinstance(chunk_size, (int, np.integer))
                                    or chunk_size < 1):
         raise ValueError(f"chunk_size: must be a positive integer, got {chunk_size!r}")
+    if num_workers is not None and (isinstance(num_workers, bool) or not isinstance(num_workers, (int, np.integer))
+                                    or num_workers < 1):
+        raise ValueError(f"num_workers: must be a positive integer, got {num_workers!r}")
     q, v, w, on = check_starts(scene, positions, velocities, spins, start_elements)
     n = len(q)
     max_collisions, max_time = check_limits(max_collisions, max_time)
@@ -233,7 +242,7 @@ def simulate_many(scene: Scene, positions, velocities, spins=None, *, max_collis
         run = dask.delayed(_run_chunk, pure=True)
         tasks = [run(*args, starts[i:i + size], on[i:i + size], levels[i:i + size], *tail, False)
                  for i in range(0, n, size)]
-        parts = _compute(tasks, scheduler, progress)
+        parts = _compute(tasks, scheduler, progress, num_workers)
         rec = np.concatenate([p[0] for p in parts]) if parts else np.zeros((0, n_rec, n_cols))
         final = np.concatenate([p[1] for p in parts]) if parts else np.zeros((0, N_FINAL))
     return _ensemble_dataset(scene, record, rec, final, origins, cells, dict(

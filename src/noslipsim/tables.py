@@ -158,7 +158,11 @@ def galton_board(spacing=2.0, radius=0.5, gravity=1.0, *, law="no-slip", gamma=U
     """Galton board: pegs of ``radius`` on a triangular lattice of ``spacing``, force ``(0, -gravity)``.
 
     Lattice ``a1 = (spacing, 0)``, ``a2 = (spacing/2, spacing sqrt(3)/2)``; a peg
-    at the origin of every cell (the paper's board: spacing 2, radius 1/2, g = 1).
+    at the origin of every cell.  The paper gives no geometry for its board:
+    the defaults here are only a convenient example.  How much the results
+    depend on the choice (the no-slip trapped share moves steeply with the
+    radius) and the geometry of the paper's figures are in the README and
+    ``config/config.yaml``.
     """
     if not 0 < 2 * radius < spacing:
         raise ValueError(f"radius: pegs must not touch (0 < 2 radius < spacing), got {radius}")

@@ -1,0 +1,134 @@
+"""The paper's experiments as datasets: Galton distributions per case, radius sweeps, orbit sets."""
+import math
+import threading
+
+import numpy as np
+import pytest
+
+import noslipsim as ns
+from noslipsim import ensemble, initial, plot, tables
+from noslipsim.experiments import galton_distribution, galton_orbits, galton_radius_sweep, orbit_set
+
+SMALL = dict(rows=3, max_time=80.0, radius=0.8, seed=4, progress=False)
+
+
+def test_gamma_is_a_coordinate_along_law_and_nan_for_specular():
+    ds = galton_distribution(60, **SMALL)
+    assert list(ds.law.values) == ["specular", "no-slip"]
+    assert np.isnan(ds.gamma.values[0]) and ds.gamma.values[1] == pytest.approx(2 ** -0.5)
+    assert "gamma" not in ds.attrs                       # never recorded as used where it was not
+    assert ds.attrs["radius"] == 0.8 and ds.attrs["n_particles"] == 60
+
+
+def test_several_gammas_in_one_run_match_single_runs():
+    many = galton_distribution(50, gamma=[2 ** -0.5, 1.0, 3.0], **SMALL)
+    assert list(many.law.values) == ["specular", "no-slip", "no-slip", "no-slip"]
+    np.testing.assert_array_equal(many.gamma.values[1:], [2 ** -0.5, 1.0, 3.0])
+    for i, g in enumerate([2 ** -0.5, 1.0, 3.0], start=1):
+        one = galton_distribution(50, laws=("no-slip",), gamma=g, **SMALL)
+        np.testing.assert_array_equal(many.t_terminal.isel(law=i), one.t_terminal.isel(law=0))
+        np.testing.assert_array_equal(many.x_terminal.isel(law=i), one.x_terminal.isel(law=0))
+    spec = galton_distribution(50, laws=("specular",), gamma=5.0, **SMALL)   # gamma plays no part
+    np.testing.assert_array_equal(many.t_terminal.isel(law=0), spec.t_terminal.isel(law=0))
+    assert np.isnan(spec.gamma.values[0])
+    # selections the figures use
+    assert many.sel(law="no-slip").sizes["law"] == 3
+    assert float(many.share_not_arrived.where(many.gamma == 3.0, drop=True).squeeze()) == float(many.share_not_arrived[3])
+
+
+def test_arrivals_are_consistent():
+    ds = galton_distribution(80, **SMALL)
+    arrived = ds.arrived.values.astype(bool)
+    assert np.isfinite(ds.t_terminal.values[arrived]).all() and np.isnan(ds.t_terminal.values[~arrived]).all()
+    assert (ds.t_terminal.values[arrived] <= SMALL["max_time"]).all()
+    np.testing.assert_allclose(ds.share_not_arrived, 1 - arrived.mean(axis=1))
+
+
+@pytest.mark.parametrize("kwargs,match", [
+    (dict(laws="no-slip"), "laws"),
+    (dict(laws=("no-slip", "no-slip")), "laws"),
+    (dict(laws=("rolling",)), "laws"),
+    (dict(laws=()), "laws"),
+    (dict(gamma=-1.0), "gamma"),
+    (dict(gamma=[1.0, 1.0]), "gamma"),
+    (dict(gamma=[]), "gamma"),
+    (dict(gamma=math.nan), "gamma"),
+    (dict(rows=0), "rows"),
+    (dict(n_particles=0), "n_particles"),
+    (dict(radius=1.5), "radius"),
+])
+def test_bad_galton_arguments_are_refused(kwargs, match):
+    args = dict(SMALL, n_particles=5)
+    args.update(kwargs)
+    n = args.pop("n_particles")
+    with pytest.raises(ValueError, match=match):
+        galton_distribution(n, **args)
+
+
+def test_radius_sweep_stacks_runs_along_radius():
+    small = {k: v for k, v in SMALL.items() if k != "radius"}
+    sweep = galton_radius_sweep(30, radii=[0.6, 0.8], **small)
+    assert sweep.share_not_arrived.dims == ("radius", "law")
+    np.testing.assert_array_equal(sweep.radius.values, [0.6, 0.8])
+    assert "radius" not in sweep.attrs and sweep.attrs["rows"] == 3
+    one = galton_distribution(30, **SMALL)
+    np.testing.assert_array_equal(sweep.t_terminal.sel(radius=0.8), one.t_terminal)
+    with pytest.raises(ValueError, match="radii"):
+        galton_radius_sweep(5, radii=[0.8, 0.6], **small)
+    with pytest.raises(ValueError, match="radii"):
+        galton_radius_sweep(5, radius=0.8, **small)
+
+
+def test_orbit_set_holds_each_simulated_orbit(tmp_path):
+    scenes = [tables.rectangle(2.0, 1.0, law="specular"), tables.galton_board(2.0, 0.8, gamma=1.0)]
+    ds = orbit_set(scenes, [[0.5, 0.5], [1.0, 0.0]], [[1.0, 0.3], [0.6, 0.8]], [0.2, -0.1],
+                   max_collisions=40, max_time=30.0)
+    assert ds.sizes["orbit"] == 2 and list(ds.law.values) == ["specular", "no-slip"]
+    assert np.isnan(ds.gamma.values[0]) and ds.gamma.values[1] == 1.0
+    for i, (sc, p, v, w) in enumerate(zip(scenes, [[0.5, 0.5], [1.0, 0.0]], [[1.0, 0.3], [0.6, 0.8]], [0.2, -0.1])):
+        one = ns.simulate(sc, p, v, w, max_collisions=40, max_time=30.0)
+        n = int(one.n_collisions)
+        row = ds.isel(orbit=i)
+        np.testing.assert_array_equal(row.x.values[:n], one.x.values)
+        assert np.isnan(row.t.values[n:]).all() and str(row.stop_reason.values) == one.attrs["stop_reason"]
+        assert float(row.x_final) == float(one.x_final) and plot.scene_of(row) == sc
+    ns.write_dataset(ds, tmp_path / "orbits.nc")
+    back = ns.open_dataset(tmp_path / "orbits.nc")
+    assert plot.scene_of(back.isel(orbit=1)) == scenes[1]
+    x, _ = plot.orbit_path(back.isel(orbit=1))
+    assert x[0] == 1.0
+    with pytest.raises(ValueError, match="shapes"):
+        orbit_set(scenes, [[0.5, 0.5]], [[1.0, 0.3]])
+    with pytest.raises(ValueError, match="scenes"):
+        orbit_set([], [], [])
+
+
+def test_galton_orbits_specular_path_is_the_no_slip_gamma_zero_path():
+    ds = galton_orbits([0.0, 3.0], radius=0.8, rows=4, max_time=60.0, max_collisions=2000)
+    assert list(ds.law.values) == ["specular", "no-slip"]
+    twin = orbit_set([tables.galton_board(2.0, 0.8, law="no-slip", gamma=0.0)], [[1.0, 0.0]], [[0.6, 0.8]],
+                     max_collisions=2000, max_time=60.0, stop_below=ds.attrs["stop_below"])
+    n = int(ds.n_collisions[0])
+    assert n == int(twin.n_collisions[0]) > 5
+    np.testing.assert_array_equal(ds.x.values[0, :n], twin.x.values[0, :n])
+    np.testing.assert_array_equal(ds.y.values[0, :n], twin.y.values[0, :n])
+    assert ds.attrs["terminal_depth"] == pytest.approx(4 * 2.0 * math.sqrt(3) / 2)
+
+
+def test_num_workers_sets_the_thread_pool(monkeypatch):
+    seen = set()
+    run = ensemble._run_chunk
+
+    def spy(*args):
+        seen.add(threading.get_ident())
+        return run(*args)
+
+    monkeypatch.setattr(ensemble, "_run_chunk", spy)
+    board = tables.galton_board(2.0, 0.8)
+    pos, vel = [[1.0, 0.0]] * 40, initial.unit_velocities(40, 1)
+    one = ns.simulate_many(board, pos, vel, max_time=20.0, chunk_size=5, num_workers=1, progress=False)
+    assert len(seen) == 1
+    two = ns.simulate_many(board, pos, vel, max_time=20.0, chunk_size=5, num_workers=2, progress=False)
+    assert one.identical(two)
+    with pytest.raises(ValueError, match="num_workers"):
+        ns.simulate_many(board, pos, vel, num_workers=0)
