@@ -17,6 +17,8 @@ from .galton import arrival_curve
 from .portraits import (
     birkhoff_coordinates, birkhoff_states, boundary_coordinate, reduced_portrait, reduced_states, velocity_portrait,
 )
+from .stability import agreement_share, stability_grid, stability_grid_theta
 
 __all__ += ["arrival_curve", "boundary_coordinate", "birkhoff_coordinates", "velocity_portrait",
-            "reduced_portrait", "birkhoff_states", "reduced_states"]
+            "reduced_portrait", "birkhoff_states", "reduced_states", "stability_grid", "stability_grid_theta",
+            "agreement_share"]
