@@ -8,8 +8,9 @@ import pytest
 
 import noslipsim as ns
 from noslipsim import tables, theory
+from noslipsim.core import layout
 from noslipsim.analysis import monodromy, stability_grid, stability_grid_theta, two_disk_orbit
-from noslipsim.analysis.stability import _logs, _starts, _two_bounce, agreement_share
+from noslipsim.analysis.stability import _check_landings, _logs, _starts, _two_bounce, agreement_share
 
 GAMMA = 1 / math.sqrt(2)
 #: A modest grid over the paper's ranges (phi up to the nearly tangent orbits the paper warns about).
@@ -119,6 +120,33 @@ def test_radius_theta_grid():
     low = stability_grid_theta(RADII, [1e-3], GAMMA, phi=0.4, gravity=1.0, max_collisions=10)
     free = np.where(RADII > float(low.radius_threshold), "elliptic", "hyperbolic")
     assert (low.linear_kind.values[:, 0] == free).all()
+
+
+def test_a_start_that_does_not_land_on_q1_is_reported():
+    points = [(0.3, None), (0.9, None)]
+    q, v, w = _starts(0.5, points, GAMMA, 0.0)
+    scene = tables.two_disks(0.5, distance=2.0, gamma=GAMMA)
+    logs = _logs(ns.simulate_many(scene, q, v, w, max_collisions=3, record="log"), 3)
+    _check_landings(0.5, points, logs)  # the true orbits pass
+    moved = logs.copy()
+    moved[1, 0, layout.LOG_Y] += 1e-6  # first landing of the second orbit 1e-6 off q1
+    with pytest.raises(ValueError, match=r"\(phi, theta\)=\(0.9, None\).*does not land on q1"):
+        _check_landings(0.5, points, moved)
+    swapped = logs.copy()
+    swapped[0, 1, layout.LOG_ELEMENT] = 1.0  # a second hit on the right disk: not the 2-periodic bounce
+    with pytest.raises(ValueError, match="elements"):
+        _check_landings(0.5, points, swapped)
+
+
+def test_launch_parallel_to_the_far_tangent_is_the_parabolic_line_under_gravity():
+    """Found with these grids: phi + theta = pi/2 (launch parallel to the tangent at q1) separates elliptic
+    from hyperbolic whatever R and gamma (the paper's wedge of angle 2 pi/7 loses stability at
+    theta ~ 1.122 = pi/2 - pi/7, its Figure 2perunstable)."""
+    for R, gamma in [(0.3, GAMMA), (0.9, 3.0)]:
+        ds = stability_grid_theta([R], [math.pi / 2 - 0.4 - 1e-3, math.pi / 2 - 0.4 + 1e-3], gamma, phi=0.4,
+                                  gravity=1.0, max_collisions=2)
+        assert ds.linear_kind.values[0].tolist() == ["elliptic", "hyperbolic"]
+        assert ds.eigen_sum.values[0, 0] < 2.0 < ds.eigen_sum.values[0, 1]
 
 
 @pytest.mark.parametrize("kwargs,match", [
