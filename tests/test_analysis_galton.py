@@ -110,6 +110,15 @@ def test_real_run_with_a_gamma_coordinate_and_several_gammas():
                                 float(other.share_not_arrived.sel(law="no-slip"))])
 
 
+def test_several_gammas_along_law_as_galton_distribution_records_them():
+    ds = galton_distribution(200, rows=4, max_time=60.0, seed=2, gamma=[2 ** -0.5, 3.0], progress=False)
+    out = arrival_curve(ds, n_times=8)
+    assert out.law.values.tolist() == ["specular", "no-slip", "no-slip"]
+    np.testing.assert_array_equal(out.gamma.values, ds.gamma.values)
+    np.testing.assert_allclose(out.share_not_arrived_final, ds.share_not_arrived)
+    assert out.share_not_arrived.dims == ("law", "time")
+
+
 @pytest.mark.parametrize("change,match", [
     (lambda d: d.drop_vars("t_terminal"), "t_terminal"),
     (lambda d: d.rename(particle="p"), "particle"),
