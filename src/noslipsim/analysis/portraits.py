@@ -27,7 +27,10 @@ circle; ``-t`` on a right-sided segment and a scatterer):
   hemisphere ``v_n <= 0`` (a solid torus); its projection
   ``(s_boundary, v_t, w)`` is a solid cylinder in which the no-slip billiard
   map preserves the volume ``ds dv_t dw`` (the canonical invariant measure
-  ``|v_n| ds d sigma`` of the hemisphere, Cox, Feres & Ward 2016).
+  ``|v_n| ds d sigma`` of the hemisphere, Cox, Feres & Ward 2016); each
+  no-slip collision reflects the ``(w, v_t)`` plane (its matrix has
+  determinant -1), so between elements of the same orientation the map's
+  Jacobian determinant is -1.
 
 :func:`birkhoff_states` and :func:`reduced_states` invert the coordinates into
 starts for :func:`noslipsim.simulate_many` (boundary initial conditions).
