@@ -52,7 +52,7 @@ def _build(cls, where, **fields):
 
 
 def _side(value, allowed, field):
-    if value not in allowed:
+    if not isinstance(value, str) or value not in allowed:
         raise ValueError(f"{field}: must be one of {list(allowed)}, got {value!r}")
     return value
 
@@ -301,6 +301,6 @@ def element_from_dict(d, where="element"):
     if not isinstance(d, dict):
         raise ValueError(f"{where}: expected a mapping, got {type(d).__name__}")
     kind = d.get("type")
-    if kind not in ELEMENT_TYPES:
+    if not isinstance(kind, str) or kind not in ELEMENT_TYPES:
         raise ValueError(f"{where}.type: unknown element type {kind!r}; expected one of {sorted(ELEMENT_TYPES)}")
     return ELEMENT_TYPES[kind].from_dict(d, where)

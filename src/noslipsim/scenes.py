@@ -34,7 +34,7 @@ _SCENE_KEYS = {"law", "gamma", "force", "elements", "lattice"}
 
 
 def _law_name(law):
-    if law not in LAWS:
+    if not isinstance(law, str) or law not in LAWS:
         raise ValueError(f"law: unknown collision law {law!r}; expected 'no-slip' or 'specular'")
     return "no-slip" if LAWS[law] == layout.NOSLIP else "specular"
 
@@ -44,6 +44,37 @@ def _gamma(value):
     if g < 0.0:
         raise ValueError(f"gamma: must be >= 0, got {g}")
     return g
+
+
+#: Most element copies a periodic scene may need around one cell (counted from the
+#: elements' bounding boxes).  Every flight through a cell tests them all and building the
+#: scene pairs them up (junctions), so an ill-posed lattice (``a1`` and ``a2`` nearly
+#: parallel, or elements spanning many cells) is refused instead of hanging.
+MAX_LATTICE_COPIES = 1000
+
+
+def _check_copies(elements, lattice):
+    """Refuse a lattice whose elements would need more than ``MAX_LATTICE_COPIES`` copies per cell."""
+    try:
+        with np.errstate(all="ignore"):
+            _, B = lattice_matrix(lattice)
+    except np.linalg.LinAlgError:
+        B = np.full((2, 2), np.nan)
+    if not np.all(np.isfinite(B)):
+        raise ValueError(f"lattice: a1 = {lattice['a1']} and a2 = {lattice['a2']} are too close to parallel")
+    total = 0.0
+    for e in elements:
+        x0, y0, x1, y1 = e.bbox()
+        if not all(map(math.isfinite, (x0, y0, x1, y1))):
+            continue  # an infinite element: reaching_copies names it
+        with np.errstate(all="ignore"):
+            coords = np.array([[x0, y0], [x1, y0], [x0, y1], [x1, y1]]) @ B.T
+            span = coords.max(axis=0) - coords.min(axis=0)
+            total += float(np.prod(np.floor(span) + 2.0))  # cells a box of that span can meet, per direction
+    if not total <= MAX_LATTICE_COPIES:
+        raise ValueError(f"lattice: the elements would need about {total:.3g} copies around each cell "
+                         f"(at most {MAX_LATTICE_COPIES}): a1 = {lattice['a1']} and a2 = {lattice['a2']} "
+                         "are nearly parallel, or the elements are much larger than a cell")
 
 
 @dataclass(frozen=True)
@@ -85,6 +116,7 @@ class Scene:
             if abs(a1[0] * a2[1] - a1[1] * a2[0]) == 0.0:
                 raise ValueError("lattice: a1 and a2 must be linearly independent")
             object.__setattr__(self, "lattice", {"a1": [float(v) for v in a1], "a2": [float(v) for v in a2]})
+            _check_copies(self.elements, self.lattice)
             reaching_copies(self.elements, self.lattice)  # rejects infinite elements
 
     # ---------------------------------------------------------------- file format

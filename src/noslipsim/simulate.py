@@ -51,7 +51,10 @@ def check_limits(max_collisions, max_time):
         raise ValueError(f"max_collisions: expected an integer, got {max_collisions!r}")
     if max_collisions < 0:
         raise ValueError(f"max_collisions: must be >= 0, got {max_collisions}")
-    max_time = float(max_time)
+    try:
+        max_time = float(max_time)
+    except (TypeError, ValueError):
+        raise ValueError(f"max_time: expected a number (or inf), got {max_time!r}") from None
     if math.isnan(max_time) or max_time <= 0.0:
         raise ValueError(f"max_time: must be > 0 (or inf), got {max_time}")
     return int(max_collisions), max_time

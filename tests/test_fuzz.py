@@ -1,0 +1,337 @@
+"""Property-based fuzzing of the input layer (hypothesis).
+
+Arbitrary scene mappings (wrong types, NaN and infinities, empty and huge
+lists, nested junk, unknown element kinds, degenerate geometry) and arbitrary
+start arguments either build a valid scene and orbit, or raise ``ValueError``
+/ ``TypeError`` whose message starts with the field at fault; never another
+exception, never a hang, never a crash of the compiled kernel.
+
+The default run is bounded and reproducible (``derandomize``: the same
+examples every run, a few seconds in all); ``python -m pytest -m stress``
+runs the long, randomised profile.  Each example has a deadline (a slow
+example fails the test) and a hard watchdog (``faulthandler``: a hung
+compiled kernel ends the run with a traceback instead of stalling it).
+"""
+import faulthandler
+import math
+import re
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, example, given, settings
+from hypothesis import strategies as st
+
+import noslipsim as ns
+from noslipsim import Scene, initial, tables
+from noslipsim.core.layout import STOP_REASONS
+
+#: Per-example deadline (ms): far above any legitimate example (the slowest take ~0.1 s).
+DEADLINE_MS = 5000
+#: A hung example ends the whole run after this long (seconds), with every thread's traceback.
+WATCHDOG_S = 300
+DEFAULT = dict(deadline=DEADLINE_MS, derandomize=True, database=None,
+               suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much,
+                                      HealthCheck.data_too_large])
+STRESS = dict(DEFAULT, derandomize=False)
+
+#: Errors must start with the field at fault, as the user wrote it.
+SCENE_FIELD = re.compile(r"^(scene(\.elements)?|law|gamma|force|elements(\[\d+\])?(\.\w+)?|lattice(\.a[12])?):")
+START_FIELD = re.compile(r"^(scene|position|velocity|spin|max_collisions|max_time|stop_below):")
+ENSEMBLE_FIELD = re.compile(r"^(scene|positions|velocities|spins|start_elements|max_collisions|max_time|"
+                            r"stop_below|record|elements|chunk_size):")
+
+
+@pytest.fixture(scope="module", autouse=True)
+def warm_kernels():
+    """Compile (or load) every kernel variant once, so no example pays for a compilation."""
+    box = tables.rectangle(1.0, 1.0)
+    torus = tables.sinai_torus(0.2)
+    ring = Scene((ns.Circle((0, 0), 0.1), ns.Segment((-0.3, -0.3), (0.3, -0.3))),
+                 lattice={"a1": [1, 0], "a2": [0, 1]})
+    for scene in (box, torus, ring):
+        for law in ("no-slip", "specular"):
+            for force in ((0.0, 0.0), (0.0, -1.0)):
+                s = scene.replace(law=law, force=force)
+                ns.simulate(s, (0.45, 0.45), (0.3, 0.2), max_collisions=3)
+                ns.simulate_many(s, [[0.45, 0.45]], [[0.3, 0.2]], max_collisions=3, scheduler="sync")
+
+
+@pytest.fixture(autouse=True)
+def watchdog():
+    faulthandler.dump_traceback_later(WATCHDOG_S, exit=True)
+    yield
+    faulthandler.cancel_dump_traceback_later()
+
+
+# ---------------------------------------------------------------------------- strategies
+wild = st.floats(allow_nan=True, allow_infinity=True)
+extreme = st.sampled_from([0.0, -0.0, 5e-324, -5e-324, 1e-300, 1e300, -1e300, 1.7976931348623157e308])
+finite = st.floats(-5.0, 5.0, allow_nan=False)
+junk = st.one_of(
+    st.none(), st.booleans(), st.text(max_size=6), st.integers(-10**30, 10**30), wild,
+    st.lists(wild, max_size=4), st.dictionaries(st.text(max_size=3), st.integers(), max_size=2),
+    st.lists(st.lists(st.integers(), max_size=2), max_size=2), st.binary(max_size=4), st.just(object()),
+)
+number = st.one_of(finite, finite, finite, extreme, junk)
+vector = st.one_of(st.tuples(finite, finite).map(list), st.tuples(finite, finite).map(list),
+                   st.tuples(number, number).map(list), st.lists(number, max_size=3), junk)
+side = st.one_of(st.sampled_from(["left", "right", "inside", "outside"]), junk)
+ELEMENT_FIELDS = {
+    "line": {"point": vector, "normal": vector},
+    "segment": {"p0": vector, "p1": vector, "side": side},
+    "circle": {"center": vector, "radius": number, "side": side},
+    "arc": {"center": vector, "radius": number, "theta0": number, "theta1": number, "side": side},
+}
+ALL_FIELDS = {k: v for fields in ELEMENT_FIELDS.values() for k, v in fields.items()}
+
+
+@st.composite
+def element(draw):
+    kind = draw(st.one_of(st.sampled_from(sorted(ELEMENT_FIELDS)), st.sampled_from(sorted(ELEMENT_FIELDS)),
+                          st.sampled_from(["ellipse", "Circle", ""]), junk))
+    fields = ELEMENT_FIELDS.get(kind, ALL_FIELDS) if isinstance(kind, str) else ALL_FIELDS
+    d = {} if draw(st.integers(0, 9)) == 0 else {"type": kind}
+    for name, strategy in fields.items():
+        if draw(st.integers(0, 7)):  # mostly present
+            d[name] = draw(strategy)
+    if draw(st.integers(0, 9)) == 0:
+        d[draw(st.one_of(st.text(max_size=4), st.integers()))] = draw(junk)
+    return d
+
+
+def _segment(p0, p1, side="left"):
+    return {"type": "segment", "p0": list(p0), "p1": list(p1), "side": side}
+
+
+degenerate_elements = st.one_of(
+    finite.map(lambda x: [_segment((x, x), (x, x))]),                                          # zero length
+    st.tuples(finite, st.floats(1e-3, 2)).map(
+        lambda a: [{"type": "circle", "center": [a[0], 0], "radius": a[1]}] * 2),                 # coincident
+    st.tuples(finite, st.floats(1e-3, 2)).map(
+        lambda a: [{"type": "arc", "center": [a[0], 0], "radius": a[1], "theta0": 1.0, "theta1": 1.0}]),
+    st.just([{"type": "line", "point": [0, 0], "normal": [0, 0]}]),                              # no normal
+    st.just([_segment((0, 0), (1, 0)), _segment((1, 0), (0, 0))]),                              # back to back
+    st.just([_segment((0, 0), (1, 0)), _segment((0, 0), (1, 0), "right")]),                    # both sides
+)
+huge_list = st.one_of(
+    st.tuples(element(), st.integers(1000, 20_000)).map(lambda a: [a[0]] * a[1]),
+    st.integers(1000, 100_000).map(lambda n: [0] * n),
+)
+lattice = st.one_of(
+    st.fixed_dictionaries({"a1": vector, "a2": vector}),
+    st.tuples(finite, finite, number).map(lambda a: {"a1": [a[0], a[1]], "a2": [a[2] * a[0], a[2] * a[1]]}
+                                          if isinstance(a[2], float) else {"a1": [a[0], a[1]], "a2": a[2]}),
+    st.tuples(st.floats(1e-12, 1e-3), st.floats(0.5, 2)).map(                                   # nearly parallel
+        lambda a: {"a1": [a[1], 0.0], "a2": [a[1], a[0]]}),
+    st.fixed_dictionaries({"a1": vector}),
+    junk,
+)
+
+
+@st.composite
+def scene_mapping(draw):
+    d = {}
+    if draw(st.booleans()):
+        d["law"] = draw(st.one_of(st.sampled_from(["no-slip", "noslip", "specular"]), junk))
+    if draw(st.booleans()):
+        d["gamma"] = draw(number)
+    if draw(st.booleans()):
+        d["force"] = draw(vector)
+    if draw(st.integers(0, 19)):
+        d["elements"] = draw(st.one_of(st.lists(element(), max_size=6), st.lists(element(), max_size=6),
+                                       degenerate_elements, st.just([]), huge_list, junk))
+    if draw(st.integers(0, 3)) == 0:
+        d["lattice"] = draw(lattice)
+    if draw(st.integers(0, 9)) == 0:
+        d[draw(st.one_of(st.text(max_size=5), st.integers(), st.none()))] = draw(junk)
+    return d if draw(st.integers(0, 49)) else draw(junk)
+
+
+# ---------------------------------------------------------------------------- scene mappings
+def check_scene_mapping(d):
+    try:
+        scene = Scene.from_dict(d)
+    except (ValueError, TypeError) as err:
+        assert SCENE_FIELD.match(str(err)), f"error does not name the field: {err!r}"
+        assert "\n" not in str(err)
+        return
+    assert isinstance(scene, Scene) and len(scene.elements) >= 1
+    assert np.isfinite(scene.gamma) and scene.gamma >= 0 and all(map(math.isfinite, scene.force))
+    back = Scene.from_dict(scene.to_dict())  # what a scene writes, it reads back
+    assert back.to_dict() == scene.to_dict()
+
+
+@settings(max_examples=300, **DEFAULT)
+@given(scene_mapping())
+@example({"elements": [{"type": "circle", "center": [0, 0], "radius": 0.2}],
+          "lattice": {"a1": [1, 0], "a2": [1, 1e-300]}})  # hung: 1e300 copies of the disk were listed
+@example({"elements": [{"type": "circle", "center": [0, 0], "radius": 0.2}],
+          "lattice": {"a1": [1, 0], "a2": [1, 1e-320]}})  # inverse lattice matrix not finite
+@example({"elements": [{"type": "circle", "center": [0, 0], "radius": 1e300}],
+          "lattice": {"a1": [1, 0], "a2": [0, 1]}})        # one element over 1e600 cells
+@example({1: 2, "law": "specular"})                      # mixed-type keys: sorting them raised TypeError
+@example({"law": [], "elements": []})                     # unhashable law: 'in LAWS' raised TypeError
+@example({"elements": [{"type": []}]})                    # unhashable element type, likewise
+def test_scene_mapping_builds_or_names_the_field(d):
+    check_scene_mapping(d)
+
+
+@pytest.mark.stress
+@settings(max_examples=20_000, **STRESS)
+@given(scene_mapping())
+def test_scene_mapping_stress(d):
+    check_scene_mapping(d)
+
+
+# ---------------------------------------------------------------------------- orbits
+coordinate = st.one_of(finite, finite, finite, extreme.filter(lambda x: abs(x) < 1e200))
+
+
+@st.composite
+def valid_element(draw):
+    kind = draw(st.sampled_from(["line", "segment", "circle", "arc"]))
+    pt = lambda: [draw(coordinate), draw(coordinate)]  # noqa: E731
+    if kind == "line":
+        return {"type": "line", "point": pt(), "normal": pt()}
+    if kind == "segment":
+        return {"type": "segment", "p0": pt(), "p1": pt(), "side": draw(st.sampled_from(["left", "right"]))}
+    radius = draw(st.one_of(st.floats(1e-3, 3.0), st.sampled_from([1e-300, 1e-12, 1e12])))
+    if kind == "circle":
+        return {"type": "circle", "center": pt(), "radius": radius,
+                "side": draw(st.sampled_from(["inside", "outside"]))}
+    theta0 = draw(st.floats(-7.0, 7.0))
+    return {"type": "arc", "center": pt(), "radius": radius, "theta0": theta0,
+            "theta1": theta0 + draw(st.floats(1e-9, 2 * math.pi)), "side": draw(st.sampled_from(["inside", "outside"]))}
+
+
+@st.composite
+def valid_scene(draw):
+    """Mostly valid scene mappings (random tables, named tables, lattices), for orbit fuzzing."""
+    law = draw(st.sampled_from(["no-slip", "specular"]))
+    gamma = draw(st.one_of(st.floats(0.0, 5.0), st.sampled_from([0.0, 1e-8, 1.0, 1e6, 1e200])))
+    force = draw(st.one_of(st.just([0.0, 0.0]), st.tuples(finite, finite).map(list),
+                           st.sampled_from([[0.0, -1e-12], [0.0, -1e6], [1e-300, 0.0]])))
+    choice = draw(st.integers(0, 3))
+    if choice == 0:  # a named table: has an interior
+        scene = draw(st.sampled_from([
+            tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.2)]), tables.regular_polygon(5), tables.stadium(),
+            tables.lemon(), tables.channel(), tables.two_disks(0.4, box=(4, 2)), tables.sinai_torus(0.3),
+            tables.hex_lorentz_cell(0.3), tables.wedge(0.6), tables.half_plane()]))
+        d = scene.to_dict()
+        elements = d["elements"]
+        lattice_ = d.get("lattice")
+    elif choice == 1:  # a lattice of pieces about a cell's size (each reaches a few cells)
+        elements = draw(st.lists(valid_element(), min_size=1, max_size=3).filter(
+            lambda es: all(e["type"] != "line" for e in es)))
+        size = max(Scene.from_dict({"elements": elements}).scale, 1e-3) if _valid(elements) else 1.0
+        scale = size * draw(st.floats(0.5, 4.0))
+        lattice_ = {"a1": [scale, 0.0], "a2": [draw(st.floats(-1.0, 1.0)) * scale, scale]}
+    else:  # anything: a table may be empty, open, or closed
+        elements = draw(st.lists(valid_element(), min_size=1, max_size=8))
+        lattice_ = None
+    d = {"law": law, "gamma": gamma, "force": force, "elements": elements}
+    if lattice_ is not None:
+        d["lattice"] = lattice_
+    return d
+
+
+def _valid(elements):
+    try:
+        Scene.from_dict({"elements": elements})
+    except ValueError:
+        return False
+    return True
+
+
+def _start(draw, scene):
+    """A start strictly inside the table when one can be found quickly, else an arbitrary one."""
+    if draw(st.integers(0, 4)):
+        x0, y0 = draw(coordinate), draw(coordinate)
+        half = draw(st.sampled_from([0.5, 2.0, 10.0]))
+        try:
+            return initial.uniform_in_region(scene, 1, (x0 - half, x0 + half, y0 - half, y0 + half),
+                                             seed=draw(st.integers(0, 2**32)))[0].tolist()
+        except ValueError:
+            pass
+    return draw(vector)
+
+
+def check_orbit(scene, position, velocity, spin, n, max_time, stop_below):
+    try:
+        ds = ns.simulate(scene, position, velocity, spin, max_collisions=n, max_time=max_time,
+                         stop_below=stop_below)
+    except (ValueError, TypeError) as err:
+        assert START_FIELD.match(str(err)), f"error does not name the field: {err!r}"
+        return None
+    assert ds.attrs["stop_reason"] in STOP_REASONS
+    assert int(ds.n_collisions) == ds.sizes["collision"] <= n
+    assert np.isfinite(ds.t.values).all() and np.all(np.diff(ds.t.values) >= 0)
+    assert set(np.unique(ds.element.values)) <= set(range(len(scene.elements)))
+    return ds
+
+
+@settings(max_examples=150, **DEFAULT)
+@given(st.data())
+def test_orbit_from_arbitrary_scene_and_start(data):
+    d = data.draw(valid_scene())
+    try:
+        scene = Scene.from_dict(d)
+    except (ValueError, TypeError) as err:  # e.g. a zero-length segment drawn at random
+        assert SCENE_FIELD.match(str(err)), repr(err)
+        return
+    check_orbit(scene, _start(data.draw, scene), data.draw(vector), data.draw(number),
+                data.draw(st.one_of(st.integers(0, 40), st.integers(0, 40), junk, st.just(-1), st.just(2.5))),
+                data.draw(st.one_of(st.just(math.inf), st.floats(1e-6, 50.0), number)),
+                data.draw(st.one_of(st.none(), st.none(), number)))
+
+
+@pytest.mark.stress
+@settings(max_examples=5000, **STRESS)
+@given(st.data())
+def test_orbit_stress(data):
+    test_orbit_from_arbitrary_scene_and_start.hypothesis.inner_test(data)
+
+
+# ---------------------------------------------------------------------------- ensembles
+@st.composite
+def array_like(draw, shape):
+    n = draw(st.integers(0, 4))
+    good = np.asarray(draw(st.lists(st.tuples(finite, finite), min_size=n, max_size=n)), float).reshape(n, 2)
+    return draw(st.one_of(st.just(good.tolist()), st.just(good[:, 0].tolist()), st.just(good),
+                          st.lists(vector, max_size=3), junk))
+
+
+def check_ensemble(scene, positions, velocities, spins, start_elements, record, chunk_size, n):
+    try:
+        ds = ns.simulate_many(scene, positions, velocities, spins, start_elements=start_elements, record=record,
+                              chunk_size=chunk_size, max_collisions=n, scheduler="sync")
+    except (ValueError, TypeError) as err:
+        assert ENSEMBLE_FIELD.match(str(err)), f"error does not name the field: {err!r}"
+        return
+    assert ds.sizes["orbit"] == len(np.asarray(positions, float))
+    assert np.isin(ds.stop_reason.values, range(len(STOP_REASONS))).all()
+    assert (ds.n_collisions.values <= n).all()
+
+
+@settings(max_examples=100, **DEFAULT)
+@given(st.data())
+def test_ensemble_from_arbitrary_arguments(data):
+    scene = data.draw(st.sampled_from([tables.rectangle(1.0, 1.0), tables.sinai_torus(0.2),
+                                       tables.galton_board(), tables.regular_polygon(6)]))
+    positions = data.draw(st.one_of(
+        st.integers(0, 3).map(lambda n: [[0.45, 0.45]] * n), array_like((2,))))
+    n = len(positions) if isinstance(positions, list) else 1
+    check_ensemble(scene, positions,
+                   data.draw(st.one_of(st.just([[0.3, 0.2]] * n), array_like((2,)))),
+                   data.draw(st.one_of(st.none(), st.just([0.1] * n), junk)),
+                   data.draw(st.one_of(st.none(), st.none(), st.just([-1] * n), st.just([0] * n), junk)),
+                   data.draw(st.one_of(st.sampled_from(["final", "count", "portrait", "log"]), junk)),
+                   data.draw(st.one_of(st.none(), st.integers(-1, 3), junk)),
+                   data.draw(st.one_of(st.integers(0, 20), junk)))
+
+
+@pytest.mark.stress
+@settings(max_examples=3000, **STRESS)
+@given(st.data())
+def test_ensemble_stress(data):
+    test_ensemble_from_arbitrary_arguments.hypothesis.inner_test(data)
