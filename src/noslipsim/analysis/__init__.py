@@ -4,13 +4,15 @@ Above :mod:`noslipsim.simulate` and :mod:`noslipsim.ensemble`, below
 :mod:`noslipsim.experiments`.  Coordinates and derivations: docs/analysis.md.
 """
 # -- theorem orbits, monodromy, periodic-orbit finder, Lyapunov exponents (one block per owner) --
+from .lyapunov import lyapunov
 from .monodromy import Monodromy, monodromy
 from .orbits import bounce_orbit, two_disk_orbit, wedge_noforce_orbit, wedge_orbit
+from .periodic import PeriodicOrbit, find_periodic_orbit
 from .tangent import CornerError
 
 # the first block starts __all__; each later block extends it with +=
 __all__ = ["two_disk_orbit", "wedge_orbit", "wedge_noforce_orbit", "bounce_orbit",
-           "monodromy", "Monodromy", "CornerError"]
+           "monodromy", "Monodromy", "CornerError", "find_periodic_orbit", "PeriodicOrbit", "lyapunov"]
 
 # -- stability grids, boundary portraits, Galton arrival curve --
 from .galton import arrival_curve

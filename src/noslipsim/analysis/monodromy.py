@@ -58,7 +58,7 @@ import numpy as np
 from ..core import layout
 from ..scenes import Scene
 from .section import interior_log, reduced_from_log, wrap_difference
-from .tangent import chain, check_no_corner, step_jacobians
+from .tangent import check_no_corner, log_product
 
 __all__ = ["Monodromy", "monodromy", "classify", "KINDS"]
 
@@ -170,7 +170,7 @@ def monodromy_of_log(scene: Scene, log):
     period = len(log) - 1
     check_no_corner(log)
     with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below
-        M = chain(step_jacobians(scene, log))
+        M = log_product(scene, log)
     if not np.all(np.isfinite(M)):
         raise ValueError(f"period: the monodromy over {period} collisions overflows float64 (the orbit is too "
                          "unstable for a matrix this long; use analysis.lyapunov for its growth rate)")

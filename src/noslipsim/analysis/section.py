@@ -60,32 +60,42 @@ def boundary_frames(scene: Scene, element, s):
     kinds, params = scene.kernel_inputs()[:2]
     e = np.asarray(element, dtype=np.int64)
     s = np.asarray(s, dtype=float)
-    k = kinds[e]
-    p = params[e]
-    straight = (k == layout.LINE) | (k == layout.SEGMENT)
-    # straight pieces: n_out = -n_in; t = J n_out; s measured from the piece's point along t (line)
-    # or along p0 -> p1 (segment)
-    n_in = p[:, 2:4]
-    t_flat = np.c_[n_in[:, 1], -n_in[:, 0]]
-    u = np.where((k == layout.SEGMENT)[:, None], p[:, 4:6], t_flat)
-    sigma_flat = np.sum(u * t_flat, axis=1)
-    pt_flat = p[:, 0:2] + s[:, None] * u
-    # round pieces: point c + r e(theta); n_out = -sigma_c e; t = -sigma_c e_theta; s = r (theta - theta0)
-    r = np.where(straight, 1.0, p[:, 2])
-    sig = p[:, 3]
-    theta0 = np.where(k == layout.ARC, p[:, 4], 0.0)
-    theta = theta0 + s / r
-    er = np.c_[np.cos(theta), np.sin(theta)]
-    eth = np.c_[-er[:, 1], er[:, 0]]
-    pt_round = p[:, 0:2] + r[:, None] * er
-    n_round = -sig[:, None] * er
-    t_round = -sig[:, None] * eth
-    m = straight[:, None]
-    point = np.where(m, pt_flat, pt_round)
-    n = np.where(m, -n_in, n_round)
-    t = np.where(m, t_flat, t_round)
-    turn = np.where(straight, 0.0, -sig / r)
-    sigma = np.where(straight, sigma_flat, -sig)
+    N = len(e)
+    point = np.empty((N, 2))
+    n = np.empty((N, 2))
+    turn = np.empty(N)
+    sigma = np.empty(N)
+    # one pass per element (a table has few): each piece's formula on its own collisions only
+    for k in np.flatnonzero(np.bincount(e, minlength=len(kinds))):
+        idx = np.flatnonzero(e == k)
+        if len(idx) == N:  # one element only: plain slices, no gather or scatter
+            idx = slice(None)
+        kind, p = kinds[k], params[k]
+        sk = s[idx]
+        if kind == layout.LINE or kind == layout.SEGMENT:
+            # n_out = -n_in, t = J n_out; s runs from the piece's point along t (line) or p0 -> p1 (segment)
+            tx, ty = p[3], -p[2]
+            ux, uy = (p[4], p[5]) if kind == layout.SEGMENT else (tx, ty)
+            point[idx, 0] = p[0] + sk * ux
+            point[idx, 1] = p[1] + sk * uy
+            n[idx, 0] = -p[2]
+            n[idx, 1] = -p[3]
+            turn[idx] = 0.0
+            sigma[idx] = ux * tx + uy * ty
+        else:
+            # point c + r e(theta), n_out = -sigma_c e, t = -sigma_c e_theta, s = r (theta - theta0)
+            r, sig = p[2], p[3]
+            theta = (p[4] if kind == layout.ARC else 0.0) + sk / r
+            cos, sin = np.cos(theta), np.sin(theta)
+            point[idx, 0] = p[0] + r * cos
+            point[idx, 1] = p[1] + r * sin
+            n[idx, 0] = -sig * cos
+            n[idx, 1] = -sig * sin
+            turn[idx] = -sig / r
+            sigma[idx] = -sig
+    t = np.empty_like(n)
+    t[:, 0] = -n[:, 1]
+    t[:, 1] = n[:, 0]
     return point, t, n, turn, sigma
 
 
