@@ -191,9 +191,9 @@ def arrival_curve(ds, *, times=None, n_times=N_TIMES, max_time=None, tail_span=T
     ``P = S(t_max)``.  Limits: the estimate is NaN when the arrivals are not
     measurably decaying (``n1 - n2 <= 2 sqrt(n1 + n2)``, two Poisson standard
     deviations, :data:`TAIL_SIGNIFICANCE`): the run is too short to be in the
-    tail, or too few particles; run longer or more particles.  A tail that decays faster than a power law (e.g. exponentially)
-    over-counts future arrivals, so ``P`` is then biased low (towards "slow"),
-    and one slower than the fitted power law (or a decay that starts after
+    tail, or too few particles; run longer or more particles.  A tail that
+    decays faster than a power law (e.g. exponentially) is over-extrapolated,
+    so ``P`` is then biased low (towards "slow"), and one slower than the fitted power law (or a decay that starts after
     ``t_max``) is read as trapping, so ``P`` is biased high.  Doubling
     ``max_time`` and comparing is the test.  The standard error combines the
     Poisson noise of ``n1``, ``n2`` (delta method) with the binomial noise of
