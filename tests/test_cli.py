@@ -14,7 +14,7 @@ import pytest
 from noslipsim.cli import EXIT_INTERNAL, EXIT_USAGE, main
 
 ROOT = Path(__file__).resolve().parents[1]
-BOX = str(ROOT / "examples" / "sinai_box.yaml")  # [0, 1]^2 with a disk of radius 0.2 at the centre
+BOX = str(ROOT / "examples" / "sinai_box.yaml")  # [0, 1]^2 with a disk of radius 0.3 at the centre
 START = ["--position", "0.1", "0.1", "--velocity", "0.6", "0.8"]
 
 GOOD_SCENE = "law: specular\nelements:\n  - {type: circle, center: [0, 0], radius: 1, side: inside}\n"
@@ -183,3 +183,47 @@ def test_installed_command_prints_one_line_and_debug_prints_the_traceback(tmp_pa
     debug = _cli("simulate", path, *START, "--debug", cwd=tmp_path)
     assert debug.returncode != 0 and "Traceback (most recent call last)" in debug.stderr
     assert "line 2, column 8" in debug.stderr.splitlines()[-1]
+
+
+# ---------------------------------------------------------------------------- noslipsim plot
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize("scene, start", [
+    (BOX, START),                                                                     # plain, no force
+    (str(ROOT / "examples" / "galton_peg.yaml"), ["--position", "0.1", "2.0", "--velocity", "0.3", "0"]),  # lines, force
+])
+def test_plot_writes_an_image(capsys, tmp_path, scene, start):
+    out = tmp_path / "figs" / "orbit.png"
+    assert main(["plot", scene, *start, "-n", "12", "--spin-every", "3", "-o", str(out)]) == 0
+    assert out.read_bytes()[:8] == PNG_MAGIC and out.stat().st_size > 5000
+    assert "wrote" in capsys.readouterr().out
+
+
+def test_plot_of_a_lattice_scene_and_a_pdf(tmp_path):
+    path = scene_file(tmp_path, "elements:\n  - {type: circle, center: [0, 0], radius: 0.3}\n"
+                                "lattice: {a1: [1, 0], a2: [0, 1]}\n")
+    out = tmp_path / "torus.pdf"
+    assert main(["plot", path, "--position", "0.5", "0.5", "--velocity", "1", "0.31", "-n", "20",
+                 "-o", str(out)]) == 0
+    assert out.read_bytes()[:5] == b"%PDF-"
+
+
+@pytest.mark.parametrize("args, fragments", [
+    (["--position", "5", "5", "--velocity", "1", "0", "-o", "x.png"], ["--position", "outside the table"]),
+    ([*START, "-o", "orbit.xyz"], ["-o/--output", "unknown image format 'xyz'", "png"]),
+    ([*START, "-o", "x.png", "--window", "1", "0", "0", "1"], ["--window", "x1 > x0"]),
+    ([*START], ["-o/--output", "required"]),
+])
+def test_plot_rejects_bad_arguments(capsys, tmp_path, args, fragments):
+    args = [str(tmp_path / a) if a.endswith((".png", ".xyz")) else a for a in args]
+    assert_one_line_error(*run_main(["plot", BOX, *args], capsys), *fragments)
+    assert not list(tmp_path.iterdir())
+
+
+def test_plot_rejects_a_bad_scene(capsys, tmp_path):
+    path = scene_file(tmp_path, "elements:\n  - {type: circle, center: [0, 0], radius: -1}\n")
+    out = tmp_path / "orbit.png"
+    assert_one_line_error(*run_main(["plot", path, *START, "-o", str(out)], capsys),
+                          "scene.yaml", "elements[0].radius", "must be > 0")
+    assert not out.exists()

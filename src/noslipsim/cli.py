@@ -1,6 +1,7 @@
-"""Command line: ``noslipsim simulate``, ``noslipsim run``.
+"""Command line: ``noslipsim simulate``, ``noslipsim plot``, ``noslipsim run``.
 
 ``noslipsim simulate SCENE.yaml --position X Y --velocity VX VY [--spin W] -n N [-o orbit.nc]``
+``noslipsim plot SCENE.yaml --position X Y --velocity VX VY [--spin W] -n N -o orbit.png``
 ``noslipsim run CONFIG.yaml -o dataset.nc``
 
 Every mistake a user can make (a missing or unreadable file, a YAML syntax
@@ -52,6 +53,18 @@ def _parser():
     s.add_argument("-o", "--output", help="write the orbit to this netCDF file instead of printing it")
     s.add_argument("--debug", **debug)
 
+    f = sub.add_parser("plot", help="draw the table of a scene file and one orbit in it")
+    _orbit_arguments(f, default_n=50)
+    f.add_argument("--max-time", type=float, default=math.inf, help="time limit (default: none)")
+    f.add_argument("--stop-below", type=float, default=None, help="stop when crossing this height downwards")
+    f.add_argument("-o", "--output", required=True,
+                   help="image to write; the format follows the extension (.png, .pdf, .svg)")
+    f.add_argument("--window", nargs=4, type=float, metavar=("X0", "X1", "Y0", "Y1"),
+                   help="region shown (default: the table's elements and the whole orbit)")
+    f.add_argument("--spin-every", type=int, default=None, metavar="K",
+                   help="draw the particle with a spin arrow on every K-th flight")
+    f.add_argument("--debug", **debug)
+
     r = sub.add_parser("run", help="run an experiment from a YAML config and write its dataset")
     r.add_argument("config", help="YAML: {experiment: NAME, parameters: {...}}")
     r.add_argument("-o", "--output", required=True, help="netCDF file to write")
@@ -82,6 +95,59 @@ def _simulate(args):
         print(f"wrote {int(ds.n_collisions)} collisions to {args.output} ({ds.attrs['stop_reason']})")
     else:
         _print_table(ds, sys.stdout)
+
+
+def _plot(args):
+    import os
+
+    import matplotlib
+
+    matplotlib.use("Agg")  # files only: no display needed
+    import matplotlib.pyplot as plt
+
+    from . import plot
+    from .scenes import Scene
+    from .simulate import simulate
+
+    scene = Scene.from_yaml(args.scene)
+    orbit = _start_errors(simulate, scene, args.position, args.velocity, args.spin,
+                          max_collisions=args.max_collisions, max_time=args.max_time, stop_below=args.stop_below)
+    ext = os.path.splitext(args.output)[1].lower().lstrip(".")
+    formats = plt.figure().canvas.get_supported_filetypes()
+    plt.close("all")
+    if ext not in formats:
+        raise ValueError(f"-o/--output: unknown image format {ext!r} of {args.output!r}; "
+                         f"expected one of {sorted(formats)}")
+    with plot.style_context():
+        fig, ax = plt.subplots(figsize=(5.0, 4.0))
+        x, y = plot.orbit_path(orbit)
+        window = args.window if args.window is not None else _plot_window(scene, x, y)
+        try:
+            plot.draw_table(ax, scene, window)
+        except ValueError as err:  # the window is the only thing the user chose here
+            raise ValueError(f"--window: {str(err).partition(': ')[2] or err}") from None
+        plot.draw_orbit(ax, orbit, spin_every=args.spin_every)
+        ax.set_title(f"{os.path.basename(args.scene)}: {scene.law}, {int(orbit.n_collisions)} collisions "
+                     f"({orbit.attrs['stop_reason']})", fontsize="small")
+        folder = os.path.dirname(os.path.abspath(args.output))
+        os.makedirs(folder, exist_ok=True)
+        fig.savefig(args.output)
+        plt.close(fig)
+    print(f"wrote {args.output} ({int(orbit.n_collisions)} collisions, {orbit.attrs['stop_reason']})")
+
+
+def _plot_window(scene, x, y):
+    """The orbit's bounding box, joined with the elements' for a plain scene without lines, plus a margin."""
+    from . import plot
+
+    x0, x1, y0, y1 = float(x.min()), float(x.max()), float(y.min()), float(y.max())
+    try:
+        a0, a1, b0, b1 = plot.auto_window(scene)
+        x0, x1, y0, y1 = min(x0, a0), max(x1, a1), min(y0, b0), max(y1, b1)
+    except ValueError:  # lines or a lattice: the orbit decides
+        pass
+    pad = 0.1 * max(x1 - x0, y1 - y0, 1e-9 * max(abs(x0), abs(y0), 1.0))
+    return x0 - pad, x1 + pad, y0 - pad, y1 + pad
 
 
 def _start_errors(func, *args, **kwargs):
@@ -136,7 +202,7 @@ def _print_table(ds, out):
               f"final t={float(ds.t_final):.6g} x={float(ds.x_final):.6g} y={float(ds.y_final):.6g}\n")
 
 
-COMMANDS = {"simulate": _simulate, "run": _run_experiment}
+COMMANDS = {"simulate": _simulate, "plot": _plot, "run": _run_experiment}
 
 
 # ---------------------------------------------------------------------------- entry point
