@@ -29,7 +29,8 @@ import numpy as np
 
 from .. import tables, theory
 from .._validate import finite_float
-from ..simulate import simulate
+from ..core import layout
+from .section import interior_log
 
 __all__ = ["two_disk_orbit", "wedge_orbit", "wedge_noforce_orbit", "bounce_orbit"]
 
@@ -90,13 +91,13 @@ def _check_landing(scene, state, element, q1, what):
     A construction check: it turns a parameter combination whose first flight
     meets another piece of the table, or none, into a clear error.
     """
-    ds = simulate(scene, **state, max_collisions=1)
+    log, stop = interior_log(scene, state["position"], state["velocity"], state["spin"], 1)
     tol = LANDING_TOL * max(1.0, scene.scale, float(np.abs(q1).max()))
-    if ds.sizes["collision"] == 0:
+    if len(log) == 0:
         raise ValueError(f"{what}: the flight from q0 misses the table and escapes "
-                         f"(stop reason {ds.attrs['stop_reason']!r}) instead of landing on q1 = {list(q1)}")
-    hit = np.array([float(ds.x[0]), float(ds.y[0])])
-    el = int(ds.element[0])
+                         f"(stop reason {stop!r}) instead of landing on q1 = {list(q1)}")
+    hit = log[0, [layout.LOG_X, layout.LOG_Y]]
+    el = int(log[0, layout.LOG_ELEMENT])
     if el != element or not np.hypot(*(hit - q1)) <= tol:
         raise ValueError(f"{what}: the flight from q0 hits element {el} at {hit.tolist()} before reaching "
                          f"q1 = {list(q1)} on element {element}")
