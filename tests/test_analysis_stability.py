@@ -60,7 +60,7 @@ def test_noforce_survival_agrees_with_the_classes(noforce):
     assert strong.any() and (ds.n_collisions.values[strong] < 100).all()  # strongly unstable: out fast
 
 
-def test_dataset_metadata(noforce):
+def test_dataset_metadata(noforce, tmp_path):
     ds = noforce
     assert ds.n_collisions.dims == ("radius", "phi") and ds.n_collisions.dtype == np.int64
     assert ds.linear_kind.dtype.kind == "U" and ds.radius_threshold.dims == ("phi",)
@@ -70,6 +70,11 @@ def test_dataset_metadata(noforce):
     for key in ("gamma", "gravity", "max_collisions", "theta", "perturbation_description", "scene", "law"):
         assert key in ds.attrs, key
     np.testing.assert_allclose(ds.curvature, 1 / RADII)
+    ns.write_dataset(ds, tmp_path / "grid.nc")
+    back = ns.open_dataset(tmp_path / "grid.nc")
+    assert (back.linear_kind.values == ds.linear_kind.values).all()
+    assert (back.n_collisions.values == ds.n_collisions.values).all()
+    assert json.loads(back.attrs["perturbation"]) == json.loads(ds.attrs["perturbation"])
 
 
 def test_batched_starts_and_monodromies_equal_the_public_api():
