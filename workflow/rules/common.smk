@@ -1,0 +1,89 @@
+# All Python helpers of the workflow: config validation, the lists of targets, paths.
+# Rules live in simulations.smk (datasets), figures.smk (figures) and report.smk (numbers).
+# How to add a figure: workflow/README.md.
+import json
+
+from snakemake.utils import validate
+
+
+validate(config, schema="../schemas/config.schema.yaml")
+
+
+# ---------------------------------------------------------------- what `rule all` builds
+# One entry per figure, grouped by subject (DESIGN numbering: figNN_topic; figS1 beyond the paper).
+FIGURES = {
+    "galton": ["fig02_galtonboard", "fig03_normal", "figS1_galton_trapping"],
+    # "orbits": [...],      Figures 1, 4, 5, 6, 8, 16
+    # "portraits": [...],   Figures 10-13
+    # "stability": [...],   Figures 7, 9, 14, 15
+}
+
+# Subjects that compute numbers the paper states (rule numbers_<subject> in report.smk).
+NUMBER_SUBJECTS = ["galton"]
+
+# Kernel variants each subject's simulations run, compiled by rule compile_kernels before the
+# simulation jobs fan out (numba's cache is not safe to fill from parallel processes, numba #4807).
+# An entry is "table:law:record": table in {plain, plain+force, lattice, lattice+force, disks}
+# (disks: one disk per lattice cell, no force), law in {no-slip, specular}, record in
+# {final, count, portrait, log} (simulate_many) or orbit (one simulate() call).
+KERNELS = {
+    "galton": ["lattice+force:no-slip:final", "lattice+force:specular:final",
+               "lattice+force:no-slip:orbit", "lattice+force:specular:orbit"],
+}
+
+
+def figure_files(name):
+    """The PDF and PNG of one figure."""
+    return [f"figures/{name}.pdf", f"figures/{name}.png"]
+
+
+def all_figures():
+    return [name for names in FIGURES.values() for name in names]
+
+
+def all_targets():
+    """Everything `snakemake` builds by default: every figure and the computed numbers."""
+    files = [f for name in all_figures() for f in figure_files(name)]
+    return files + ["figures/numbers.json", "figures/numbers.md"]
+
+
+def number_fragments():
+    return [f"results/numbers/{subject}.json" for subject in NUMBER_SUBJECTS]
+
+
+def kernel_entries():
+    return sorted({entry for entries in KERNELS.values() for entry in entries})
+
+
+def core_digest():
+    """Hash of the compiled core's sources: the kernels are recompiled when it changes."""
+    from noslipsim._numba_cache import source_digest
+
+    return source_digest()
+
+
+# ---------------------------------------------------------------- runtime
+# Threads of an ensemble job (its dask thread pool).  Snakemake lowers it to --cores (-j2: two
+# threads); on a cluster the profile's set-threads decides (workflow/profiles/slurm).
+ENSEMBLE_THREADS = 8
+
+
+def dask_scheduler():
+    """The dask.distributed scheduler address of the config, or None for local threads."""
+    return config.get("dask_scheduler")
+
+
+# ---------------------------------------------------------------- paths
+# The software of every rule (used with --software-deployment-method conda), relative to rules/.
+SOFTWARE = "../envs/noslipsim.yaml"
+
+
+def log_file(name):
+    return f"logs/{name}.log"
+
+
+def benchmark_file(name):
+    return f"logs/benchmarks/{name}.tsv"
+
+
+KERNELS_DONE = "results/kernels.json"

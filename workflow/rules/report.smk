@@ -1,0 +1,42 @@
+# The paper's stated numbers, computed from the datasets.  Each subject has a rule
+# numbers_<subject> writing results/numbers/<subject>.json ({key: record}, see
+# noslipsim.plot.numbers); rule numbers gathers the fragments of NUMBER_SUBJECTS (common.smk)
+# into figures/numbers.json and the markdown table figures/numbers.md that the README shows.
+
+
+rule numbers:
+    input:
+        number_fragments(),
+    output:
+        json="figures/numbers.json",
+        table="figures/numbers.md",
+    log:
+        log_file("numbers"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/numbers.py"
+
+
+# ---------------------------------------------------------------- galton
+rule numbers_galton:
+    input:
+        distribution="results/galton/distribution.nc",
+        arrivals="results/galton/arrivals.nc",
+    output:
+        numbers="results/numbers/galton.json",
+    log:
+        log_file("numbers_galton"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/numbers_galton.py"
+
+
+# ---------------------------------------------------------------- orbits
+
+# ---------------------------------------------------------------- portraits
+
+# ---------------------------------------------------------------- stability

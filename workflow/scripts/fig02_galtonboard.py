@@ -1,0 +1,38 @@
+"""Figure 2: Galton-board orbits from one start for gamma = 0 (specular), 1/sqrt 2 and 3; dots at start and end."""
+import sys
+
+sys.stderr = open(snakemake.log[0], "w", buffering=1)
+
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+
+from noslipsim import plot  # noqa: E402
+
+MARGIN = 2.0  # board shown around the orbits (lengths)
+
+ds = xr.load_dataset(snakemake.input.orbits)
+paths = [plot.orbit_path(ds.isel(orbit=i)) for i in range(ds.sizes["orbit"])]
+x0 = min(x.min() for x, _ in paths) - MARGIN
+x1 = max(x.max() for x, _ in paths) + MARGIN
+bottom = ds.attrs["start"][1] - ds.attrs["terminal_depth"]
+window = (x0, x1, bottom - MARGIN, ds.attrs["start"][1] + MARGIN)
+
+plot.use_style()
+fig, axes = plt.subplots(1, ds.sizes["orbit"], figsize=(6.5, 3.4), sharey=True)
+for ax, i in zip(np.atleast_1d(axes), range(ds.sizes["orbit"])):
+    orbit = ds.isel(orbit=i)
+    plot.draw_table(ax, orbit, window)
+    ax.axhline(bottom, color="0.4", linestyle="--", linewidth=0.6)
+    plot.draw_orbit(ax, orbit, linewidth=0.5)
+    g = float(orbit.gamma)
+    name = "specular, $\\gamma = 0$" if str(orbit.law.values) == "specular" else f"no-slip, $\\gamma = {g:.3g}$"
+    arrived = str(orbit.stop_reason.values) == "stop_below"
+    fate = f"arrived at t = {float(orbit.t_final):.0f}" if arrived else f"not arrived by t = {float(orbit.t_final):.0f}"
+    ax.set_title(f"{name}\n{fate}")
+    ax.set_xlabel("x")
+axes[0].set_ylabel("y")
+plot.save_figure(fig, snakemake.output.pdf)  # writes the .pdf and the .png beside it

@@ -1,0 +1,39 @@
+"""Figure 3: terminal horizontal displacements, specular vs no-slip (gamma = 1/sqrt 2), with the share not arrived."""
+import sys
+
+sys.stderr = open(snakemake.log[0], "w", buffering=1)
+
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+
+from noslipsim import plot  # noqa: E402
+
+ds = xr.load_dataset(snakemake.input.distribution)
+x = ds.x_terminal
+edges = np.histogram_bin_edges(x.values[np.isfinite(x.values)], bins=snakemake.params.bins)
+width = edges[1] - edges[0]
+grid = np.linspace(edges[0], edges[-1], 400)
+
+plot.use_style()
+fig, axes = plt.subplots(1, ds.sizes["law"], figsize=(6.5, 2.6), sharex=True, sharey=True)
+for ax, i in zip(np.atleast_1d(axes), range(ds.sizes["law"])):
+    case = ds.isel(law=i)
+    law = str(case.law.values)
+    xs = case.x_terminal.values[np.isfinite(case.x_terminal.values)]
+    mean, std = xs.mean(), xs.std(ddof=1)
+    ax.hist(xs, bins=edges, color=plot.law_color(law), alpha=0.75, label="arrived")
+    gauss = len(xs) * width * np.exp(-0.5 * ((grid - mean) / std) ** 2) / (std * np.sqrt(2 * np.pi))
+    ax.plot(grid, gauss, color="k", linewidth=0.8, label=f"normal, $\\sigma$ = {std:.2f}")
+    name = "specular" if law == "specular" else f"no-slip, $\\gamma$ = {float(case.gamma):.3g}"
+    ax.set_title(name)
+    ax.text(0.02, 0.97, f"{case.sizes['particle']:,} particles\nnot arrived by t = {ds.attrs['max_time']:g}: "
+            f"{float(case.share_not_arrived):.1%}\n$\\sigma$ = {std:.2f}", transform=ax.transAxes, va="top",
+            fontsize=7)
+    ax.set_xlabel("terminal horizontal displacement")
+    ax.legend(loc="upper right", fontsize=7)
+axes[0].set_ylabel(f"particles per bin (width {width:.2g})")
+plot.save_figure(fig, snakemake.output.pdf)  # writes the .pdf and the .png beside it

@@ -1,0 +1,50 @@
+"""Figure S1: share not arrived against time (slow or trapped?) and the long-time share against peg radius."""
+import sys
+
+sys.stderr = open(snakemake.log[0], "w", buffering=1)
+
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+
+from noslipsim import plot  # noqa: E402
+from noslipsim.analysis import arrival_curve  # noqa: E402
+
+arrivals = xr.load_dataset(snakemake.input.arrivals)
+sweep = xr.load_dataset(snakemake.input.sweep)
+curves = arrival_curve(arrivals)
+long_run = arrival_curve(sweep)
+T = arrivals.attrs["termination_time"]
+GAMMA_STYLES = ["-", "--", ":", "-."]
+
+plot.use_style()
+fig, (left, right) = plt.subplots(1, 2, figsize=(6.5, 2.8))
+for i in range(curves.sizes["law"]):
+    c = curves.isel(law=i)
+    law = str(c.law.values)
+    label = "specular" if law == "specular" else f"no-slip, $\\gamma$ = {float(c.gamma):.3g}"
+    style = "-" if law == "specular" else GAMMA_STYLES[(i - 1) % len(GAMMA_STYLES)]
+    keep = c.share_not_arrived > 0  # log axes
+    left.plot(c.time[keep], c.share_not_arrived[keep], style, color=plot.law_color(law), label=label)
+left.axvline(T, color="0.5", linewidth=0.6)
+left.text(T, 1.0, " T", color="0.4", va="top", fontsize=7)
+left.set(xscale="log", yscale="log", xlabel="time", ylabel="share not arrived",
+         title=f"{arrivals.attrs['n_particles']:,} particles per case")
+left.legend(fontsize=7, loc="lower left")
+
+for law in ("specular", "no-slip"):
+    sel = long_run.sel(law=law)
+    right.errorbar(sel.radius, sel.share_not_arrived_final, yerr=sel.share_not_arrived_stderr.isel(time=-1),
+                   marker="o", markersize=3, capsize=2, color=plot.law_color(law),
+                   label=f"{law}, not arrived by {sweep.attrs['time_factor']:g} T")
+sel = long_run.sel(law="no-slip")
+ok = np.isfinite(sel.trapped_share)
+right.plot(sel.radius[ok], sel.trapped_share[ok], "x", color="k", markersize=4, label="no-slip, trapped (extrapolated)")
+right.axvline(sweep.attrs["board_radius"], color="0.5", linewidth=0.6, linestyle="--")
+right.set(xlabel=f"peg radius (spacing {sweep.attrs['spacing']:g})", ylabel="share", ylim=(-0.02, 1.0),
+          title=f"{sweep.attrs['n_particles']:,} particles per radius")
+right.legend(fontsize=7, loc="upper left")
+plot.save_figure(fig, snakemake.output.pdf)  # writes the .pdf and the .png beside it

@@ -1,0 +1,13 @@
+"""Dataset of Figure 3: terminal positions and arrival times of many particles per law."""
+import sys
+
+sys.stderr = open(snakemake.log[0], "w", buffering=1)
+
+from noslipsim import write_dataset  # noqa: E402
+from noslipsim.experiments import galton_distribution  # noqa: E402
+
+board, run = snakemake.params.board, snakemake.params.run
+ds = galton_distribution(run["n_particles"], gamma=run["gamma"], seed=run["seed"], **board,
+                         scheduler=snakemake.params.scheduler, num_workers=snakemake.threads, progress=True)
+write_dataset(ds, snakemake.output.distribution, config={"galton": {"board": board, "distribution": run}},
+              history=f"snakemake rule {snakemake.rule} (workflow/scripts/galton_distribution.py)")

@@ -1,0 +1,61 @@
+"""The paper's Galton numbers, computed: shares not arrived at T and at 10 T, terminal standard deviations."""
+import json
+import sys
+
+sys.stderr = open(snakemake.log[0], "w", buffering=1)
+
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+
+from noslipsim.analysis import arrival_curve  # noqa: E402
+
+dist = xr.load_dataset(snakemake.input.distribution)
+long_run = xr.load_dataset(snakemake.input.arrivals)
+T, n = dist.attrs["max_time"], dist.attrs["n_particles"]
+gamma = float(dist.gamma.sel(law="no-slip"))
+
+
+def share(ds, law, gamma=None):
+    """Share not arrived by the run's end and its binomial standard error, for one case."""
+    case = ds.isel(law=[i for i, (l, g) in enumerate(zip(ds.law.values, ds.gamma.values))
+                        if l == law and (gamma is None or np.isclose(g, gamma))][0])
+    p = float(case.share_not_arrived)
+    return p, float(np.sqrt(p * (1 - p) / case.sizes["particle"]))
+
+
+def spread(law):
+    x = dist.x_terminal.sel(law=law).values
+    return float(np.std(x[np.isfinite(x)], ddof=1))
+
+
+numbers = {}
+p, e = share(dist, "no-slip", gamma)
+numbers["share_not_arrived_noslip"] = dict(
+    description=f"no-slip (γ = {gamma:.3g}) share not arrived by the termination time T = {T:g}",
+    value=p, stderr=e, format=".2%", paper="roughly 40 %", note=f"{n:,} particles")
+p, e = share(dist, "specular")
+numbers["share_not_arrived_specular"] = dict(
+    description=f"specular share not arrived by T = {T:g}", value=p, stderr=e, format=".2%",
+    paper="almost none", note=f"{n:,} particles")
+for law in ("specular", "no-slip"):
+    numbers[f"std_terminal_{law.replace('-', '')}"] = dict(
+        description=f"{law} standard deviation of the terminal horizontal displacement", value=spread(law),
+        format=".2f", paper="similar for both laws (no value given)")
+factor, m = long_run.attrs["time_factor"], long_run.attrs["n_particles"]
+for law, g in (("no-slip", gamma), ("specular", None)):
+    p, e = share(long_run, law, g)
+    name = "noslip" if law == "no-slip" else "specular"
+    numbers[f"share_not_arrived_{name}_{factor:g}T"] = dict(
+        description=f"{law} share still not arrived at {factor:g} T = {factor * T:g} (trapped, not slow)",
+        value=p, stderr=e, format=".2%", paper="the phenomenon persists (no value given)",
+        note=f"a subsample of {m:,} particles")
+curve = arrival_curve(long_run)
+trapped = curve.isel(law=[i for i, g in enumerate(curve.gamma.values) if np.isclose(g, gamma)][0])
+if np.isfinite(float(trapped.trapped_share)):
+    numbers["trapped_share_noslip"] = dict(
+        description=f"no-slip (γ = {gamma:.3g}) share that never arrives, extrapolated from the arrival tail",
+        value=float(trapped.trapped_share), stderr=float(trapped.trapped_share_stderr), format=".2%",
+        note="noslipsim.analysis.arrival_curve")
+
+with open(snakemake.output.numbers, "w") as fh:
+    json.dump(numbers, fh, indent=1, ensure_ascii=False)
