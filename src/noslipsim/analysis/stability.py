@@ -28,7 +28,9 @@ launch speed grows without bound as ``theta -> 0`` under gravity), and a
 turned velocity has components along every direction of the reduced section
 (boundary point and exit direction change at the next impact), so an unstable
 orbit cannot hide its growing direction.  Default: ``angle = 1e-3``,
-``spin = 0``.  Docs: docs/analysis.md.
+``spin = 0``.  Docs: docs/analysis.md (also for what the grids show: under
+gravity the line ``phi + theta = pi/2``, a launch parallel to the tangent at
+``q1``, is parabolic for every ``R`` and ``gamma`` tried).
 
 References: the paper, section "Stability of periodic points"; C. Cox,
 R. Feres, H.-K. Zhang, *Stability of periodic orbits in no-slip billiards*,
