@@ -99,7 +99,7 @@ def lyapunov_run(scene: Scene, position, velocity, spin=0.0, *, max_time=1e4, n_
     times = log[block:n_used + 1:block, layout.LOG_T] - log[0, layout.LOG_T]
 
     # renormalise in coordinates scaled by the table's size and the speed
-    speed = math.sqrt(float(v @ v) + w * w + 2.0 * abs(float(np.dot(scene.force, q))))
+    speed = math.sqrt(float(v @ v) + w * w + math.hypot(*scene.force) * scene.scale)  # > 0 even at rest
     D = np.array([max(scene.scale, 1e-300), speed, speed])
     scaled = blocks * (1.0 / D)[None, :, None] * D[None, None, :]
     u = np.ones(3) / math.sqrt(3.0)
