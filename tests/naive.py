@@ -8,7 +8,7 @@ arithmetic) and bisected to ~1e-42 relative; positions and angles at a root
 are then evaluated with mpmath at 50 digits.
 
 Nothing here shares code with ``noslipsim.core``: the twins are built from the
-definitions (DESIGN section 5):
+definitions (docs/algorithm.md):
 
 * the crossing polynomial of an element is its signed distance along the
   flight, positive on the table side (a positive multiple of it for segments

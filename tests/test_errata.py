@@ -1,4 +1,4 @@
-"""The paper's errata (DESIGN section 2, docs/errata.md), each pinned with the float engine.
+"""The paper's errata (docs/conventions.md, docs/errata.md), each pinned with the float engine.
 
 A path-reversing 2-periodic wedge orbit leaves a wall point ``q0`` with state
 ``(v0, w0)``; after two collisions (opposite wall, then ``q0`` again) the

@@ -1,4 +1,4 @@
-"""Theorem 1 (no-slip bouncing ball) with the float engine: periodicity and drift (DESIGN section 2)."""
+"""Theorem 1 (no-slip bouncing ball) with the float engine: periodicity and drift (docs/conventions.md)."""
 import math
 
 import numpy as np

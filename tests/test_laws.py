@@ -1,4 +1,4 @@
-"""The collision laws: sign convention, invariants and special cases (DESIGN section 2)."""
+"""The collision laws: sign convention, invariants and special cases (docs/conventions.md)."""
 import math
 
 import numpy as np

@@ -1,6 +1,6 @@
 """The float64 engine against its high-precision twin :mod:`noslipsim.reference`.
 
-(a) The reference alone reproduces the half-plane theorem (DESIGN section 2) at 1e-40.
+(a) The reference alone reproduces the half-plane theorem (docs/conventions.md) at 1e-40.
 (b) ``simulate`` agrees with ``simulate_reference`` to 1e-9 (relative to the orbit's length
     and speed scales), with identical element indices, corner flags and stop reasons, over
     the first collisions of every table family, both laws and gamma in {0, 1/sqrt 2, 1, 3, 100}.
@@ -400,7 +400,7 @@ def test_reference_conserves_energy_and_stays_on_elements(name):
 
 
 def _outward_normal(el, x, y):
-    """Outward unit normal of an element at a point, from the element's definition (DESIGN section 2)."""
+    """Outward unit normal of an element at a point, from the element's definition (docs/conventions.md)."""
     if isinstance(el, Line):
         n = (-_mp(el.normal[0]), -_mp(el.normal[1]))
     elif isinstance(el, Segment):

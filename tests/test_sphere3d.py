@@ -1,4 +1,4 @@
-"""Rough sphere bouncing on a plane (the paper's 3D bouncing figure; DESIGN section 2).
+"""Rough sphere bouncing on a plane (the paper's 3D bouncing figure; docs/conventions.md).
 
 Oracles: the impulse form of the no-slip law (slow twin), Theorem 1 in vector
 form, and the planar engine for motions confined to the x-z plane.

@@ -2,7 +2,7 @@
 
 Each element knows its table side, validates itself, writes its kernel row
 (:mod:`noslipsim.core.layout`) and measures points for the inside test.  The
-scene-file form of each is given in DESIGN section 4:
+scene-file form of each is given in docs/scenes.md:
 
 - ``{type: line, point: [x, y], normal: [nx, ny]}``: infinite line, ``normal``
   points INTO the table (normalised on construction);

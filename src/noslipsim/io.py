@@ -1,4 +1,4 @@
-"""Self-describing netCDF datasets (DESIGN section 6), written atomically."""
+"""Self-describing netCDF datasets (docs/datasets.md), written atomically."""
 from __future__ import annotations
 
 import datetime as _dt

@@ -1,4 +1,4 @@
-"""Long names and units of every dataset variable, declared once (DESIGN section 6).
+"""Long names and units of every dataset variable, declared once (docs/datasets.md).
 
 Lengths, times and speeds are in the units of the scene (nondimensional:
 ``"1"``).  Spin is the scaled spin ``w = gamma R omega`` (a speed).

@@ -1,6 +1,6 @@
 """Scenes: a table (boundary elements), a collision law, a mass distribution and a force.
 
-A scene is the public way to define a billiard (DESIGN section 4)::
+A scene is the public way to define a billiard (docs/scenes.md)::
 
     law: no-slip            # or specular
     gamma: 0.7071067811865476
@@ -86,7 +86,7 @@ class Scene:
     elements : sequence of Line, Segment, Circle, Arc
         Boundary pieces; their order fixes the ``element`` index in outputs.
     law : {'no-slip', 'specular'}
-        Collision law (DESIGN section 2).
+        Collision law (docs/conventions.md).
     gamma : float
         Mass-distribution constant ``gamma = sqrt(I / (m R^2))`` (nondimensional,
         >= 0): 0 point mass, ``1/sqrt(2)`` uniform disk, 1 ring.
@@ -122,7 +122,7 @@ class Scene:
     # ---------------------------------------------------------------- file format
     @classmethod
     def from_dict(cls, d):
-        """Build a scene from its mapping form (DESIGN section 4); unknown keys are errors."""
+        """Build a scene from its mapping form (docs/scenes.md); unknown keys are errors."""
         no_unknown_keys(d, _SCENE_KEYS, "scene")
         elems = required(d, "elements", "scene")
         if not isinstance(elems, (list, tuple)):

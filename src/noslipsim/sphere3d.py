@@ -1,6 +1,6 @@
 """A rough sphere bouncing on a horizontal plane under gravity (the paper's 3D bouncing figure).
 
-The three-dimensional no-slip law (Cox & Feres 2016; DESIGN section 2) for a
+The three-dimensional no-slip law (Cox & Feres 2016; docs/conventions.md) for a
 sphere on the plane ``z = 0`` with ``n = e_z`` pointing towards the sphere,
 ``sigma = n x W_T`` and ``W = gamma R omega`` the scaled spin:
 

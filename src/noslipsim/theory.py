@@ -1,7 +1,7 @@
 r"""Closed forms of the paper's theorems, corrected where the paper is wrong.
 
 They are test oracles and inputs of the pipeline (e.g. the start of a
-2-periodic wedge orbit to perturb).  Conventions are those of DESIGN section 2:
+2-periodic wedge orbit to perturb).  Conventions are those of docs/conventions.md:
 scaled spin ``w = gamma R omega`` counter-clockwise positive, outward normal
 ``n`` (out of the table), tangent ``t = J n``; the no-slip law is
 
@@ -14,7 +14,7 @@ with ``c = (1 - gamma^2)/(1 + gamma^2)``, ``s = 2 gamma/(1 + gamma^2)``
 ``gamma c - s = -gamma``, an impact with ``v_t = gamma w`` sends
 ``(w, v_t, v_n)`` to ``(-w, -v_t, -v_n)``: the whole velocity is reversed and
 the particle retraces its path (path reversal).  Every 2-periodic orbit below is
-built from that one fact.  The three errata of DESIGN section 2 are documented
+built from that one fact.  The three errata of the paper are documented
 in ``docs/errata.md``.
 
 Reference: J. Ahmed, T. Chumley, S. Cook, C. Cox, H. Grant, N. Petela,
