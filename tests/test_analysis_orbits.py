@@ -42,7 +42,7 @@ def period_drift(scene, state, n):
 
 
 def growth_bound(lam, n):
-    """Rounding amplification allowed for X[k+2] - X[k], k < n - 2: |lambda|^(k/2 + 1), lambda the largest eigenvalue."""
+    """Rounding growth allowed for X[k+2] - X[k], k < n - 2: |lambda|^(k/2 + 1), lambda the largest eigenvalue."""
     return max(1.0, abs(lam)) ** (np.arange(n - 2) // 2 + 1)
 
 

@@ -32,9 +32,6 @@ from ..core.loop import orbit_kernel
 from ..scenes import Scene
 from ..simulate import check_limits, check_start, run_one, start_cell
 
-TWO_PI = 2.0 * math.pi
-
-
 def boundary_frames(scene: Scene, element, s):
     """Geometry at boundary points given by element index and arclength, vectorised.
 

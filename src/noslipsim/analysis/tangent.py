@@ -41,9 +41,10 @@ def check_no_corner(log, what="orbit"):
     corner = np.flatnonzero(log[:, layout.LOG_CORNER] != 0.0)
     if corner.size:
         k = int(corner[0])
-        raise CornerError(f"{what}: collision {k} is a corner collision (two elements at once, elements "
-                          f"{int(log[k - 1, layout.LOG_ELEMENT]) if k else '?'} and {int(log[k, layout.LOG_ELEMENT])}); "
-                          "the return map has no derivative there, so its monodromy is undefined")
+        before = int(log[k - 1, layout.LOG_ELEMENT]) if k else "?"
+        raise CornerError(f"{what}: collision {k} is a corner collision (two elements at once, elements {before} "
+                          f"and {int(log[k, layout.LOG_ELEMENT])}); the return map has no derivative there, "
+                          "so its monodromy is undefined")
 
 
 #: Flights processed per vectorised pass.  Arrays of this many floats (64 KiB)
