@@ -165,6 +165,17 @@ def test_theorem_orbits_are_found_from_a_start_1e3_away(name):
     assert gap < 2e-2 * (1 + np.abs(X0).max())
 
 
+def test_periodic_orbit_on_a_lattice():
+    """Sinai torus (no-slip): the 2-periodic orbit between neighbouring disks, periodic up to a lattice shift."""
+    scene = tables.sinai_torus(0.3)
+    res = find_periodic_orbit(scene, (0.5, 0.001), (1.0, 0.002), 0.001, period=2)
+    assert res.converged and res.residual <= 1e-12, res.message
+    ds, X = states(scene, res.state, 6)
+    assert period_drift(X, 2) < 1e-9
+    assert res.monodromy.kind == "hyperbolic"  # dispersing disks, nearly head-on: lambda + 1/lambda > 2
+    assert abs(X[0, 0] - X[1, 0]) == pytest.approx(0.4, abs=1e-3)  # between two disk copies 1 apart
+
+
 # ----------------------------------------------------------------------------- honest failure
 def test_a_start_that_does_not_converge_says_so():
     scene = tables.sinai_torus(0.3, law="specular")
