@@ -46,6 +46,19 @@ def _array(value, shape_tail, n, field):
     return np.ascontiguousarray(arr)
 
 
+def _indices(value, field):
+    """Integer indices (an int64 array), or ValueError naming ``field``: no silent truncation of 0.5 to 0."""
+    try:
+        arr = np.asarray(value)
+        ok = arr.dtype.kind in "iu" or (arr.dtype.kind == "f" and bool(np.all(np.isfinite(arr)))
+                                        and bool(np.all(arr == np.round(arr))))
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise ValueError(f"{field}: expected integer element indices (-1 for an interior start), got {value!r}")
+    return arr.astype(np.int64)
+
+
 def check_starts(scene: Scene, positions, velocities, spins, start_elements=None):
     """Validate N initial states; returns ``(q, v, w, on)`` arrays.
 
@@ -57,7 +70,7 @@ def check_starts(scene: Scene, positions, velocities, spins, start_elements=None
     n = len(q)
     v = _array(velocities, (2,), n, "velocities")
     w = np.zeros(n) if spins is None else _array(spins, (), n, "spins")
-    on = np.full(n, -1, dtype=np.int64) if start_elements is None else np.asarray(start_elements, dtype=np.int64)
+    on = np.full(n, -1, dtype=np.int64) if start_elements is None else _indices(start_elements, "start_elements")
     if on.shape != (n,):
         raise ValueError(f"start_elements: expected shape ({n},), got {on.shape}")
     if ((on < -1) | (on >= len(scene.elements))).any():

@@ -77,6 +77,19 @@ def _check_copies(elements, lattice):
                          "are nearly parallel, or the elements are much larger than a cell")
 
 
+#: On a lattice a segment must be longer than this, relative to the longer lattice vector:
+#: its copies are shifted by lattice vectors, and a shorter one collapses to a point in rounding.
+LATTICE_MIN_SEGMENT = 1e-9
+
+
+def _check_lattice_segments(elements, lattice):
+    size = max(math.hypot(*lattice["a1"]), math.hypot(*lattice["a2"]))
+    for i, e in enumerate(elements):
+        if e.type_name == "segment" and not e.length() > LATTICE_MIN_SEGMENT * size:
+            raise ValueError(f"elements[{i}]: a segment of length {e.length():.3g} is too short for a lattice "
+                             f"of size {size:.3g} (at least {LATTICE_MIN_SEGMENT:g} times it)")
+
+
 @dataclass(frozen=True)
 class Scene:
     """A billiard table with its physics.
@@ -117,6 +130,7 @@ class Scene:
                 raise ValueError("lattice: a1 and a2 must be linearly independent")
             object.__setattr__(self, "lattice", {"a1": [float(v) for v in a1], "a2": [float(v) for v in a2]})
             _check_copies(self.elements, self.lattice)
+            _check_lattice_segments(self.elements, self.lattice)
             reaching_copies(self.elements, self.lattice)  # rejects infinite elements
 
     # ---------------------------------------------------------------- file format

@@ -35,7 +35,11 @@ def check_start(scene: Scene, position, velocity, spin):
     v = finite_vector(velocity, "velocity")
     w = finite_float(spin, "spin")
     margin = START_MARGIN * max(scene.scale, float(np.abs(start_cell(scene, q)[2]).max()))
-    depth = float(scene.depth(q[None])[0])
+    try:
+        depth = float(scene.depth(q[None])[0])
+    except ValueError as err:  # the copies of the elements around a far cell collapse in rounding
+        raise ValueError(f"position: {q.tolist()} is too far out on the lattice for this scene's "
+                         f"smallest elements ({err})") from None
     if not depth > margin:
         where = "on the boundary of" if abs(depth) <= margin else "outside"
         raise ValueError(f"position: {q.tolist()} is {where} the table (depth {depth:.3g}); "
