@@ -105,7 +105,7 @@ def test_with_force_the_classes_come_from_the_monodromy():
         m = monodromy(sc, **state, period=2)
         assert ds.linear_kind.values[i, j] == m.kind
         assert float(ds.eigen_sum[i, j]) == pytest.approx(m.eigen_sum, rel=EIGEN_SUM_RTOL)
-    # measured 0.972 (35 of 36) on this grid; 0.971 on the paper's 100 x 100 at theta = 0.5
+    # measured 0.944 (34 of 36) on this grid; 0.971 on the paper's 100 x 100 at theta = 0.5
     assert agreement_share(ds) >= MIN_AGREEMENT
     assert {"elliptic", "hyperbolic"} <= set(np.unique(ds.linear_kind.values))
 
