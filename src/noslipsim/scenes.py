@@ -26,7 +26,7 @@ from ._validate import finite_float, finite_vector, no_unknown_keys, read_yaml, 
 from .core import layout
 from .core.laws import noslip_coefficients
 from .core.loop import kernel_flags
-from .elements import Circle, element_from_dict
+from .elements import Arc, Circle, Line, Segment, element_from_dict
 from .lattice import cell_of, lattice_matrix, reaching_copies
 
 LAWS = {"no-slip": layout.NOSLIP, "noslip": layout.NOSLIP, "specular": layout.SPECULAR}
@@ -77,6 +77,20 @@ def _check_copies(elements, lattice):
                          "are nearly parallel, or the elements are much larger than a cell")
 
 
+def _element_tuple(elements):
+    """The elements as a tuple, each a Line, Segment, Circle or Arc (TypeError naming the one that is not)."""
+    try:
+        out = tuple(elements)
+    except TypeError:
+        raise TypeError(f"elements: expected a sequence of Line, Segment, Circle or Arc, "
+                        f"got {type(elements).__name__}") from None
+    for i, e in enumerate(out):
+        if not isinstance(e, (Line, Segment, Circle, Arc)):
+            raise TypeError(f"elements[{i}]: expected a Line, Segment, Circle or Arc (or use Scene.from_dict "
+                            f"for mappings), got {type(e).__name__}")
+    return out
+
+
 #: On a lattice a segment must be longer than this, relative to the longer lattice vector:
 #: its copies are shifted by lattice vectors, and a shorter one collapses to a point in rounding.
 LATTICE_MIN_SEGMENT = 1e-9
@@ -119,7 +133,7 @@ class Scene:
         object.__setattr__(self, "law", _law_name(self.law))
         object.__setattr__(self, "gamma", _gamma(self.gamma))
         object.__setattr__(self, "force", tuple(float(f) for f in finite_vector(self.force, "force")))
-        object.__setattr__(self, "elements", tuple(self.elements))
+        object.__setattr__(self, "elements", _element_tuple(self.elements))
         if not self.elements:
             raise ValueError("elements: a scene needs at least one element")
         if self.lattice is not None:
