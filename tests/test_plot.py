@@ -223,3 +223,62 @@ def test_numbers_table():
     with pytest.raises(ValueError, match="unknown"):
         check_record("k", {"description": "d", "value": 1.0, "colour": "red"})
     assert json.loads(json.dumps(numbers)) == numbers
+
+
+# ---------------------------------------------------------------- annotations and the 3D bounce path
+def test_angle_arc_spans_the_angle_at_its_radius(ax):
+    arc = plot.draw_angle(ax, (1.0, 2.0), 0.3, 1.1, 0.5, r"$\theta$")
+    x, y = arc.get_data()
+    np.testing.assert_allclose(np.hypot(x - 1.0, y - 2.0), 0.5)
+    ang = np.arctan2(y - 2.0, x - 1.0)
+    assert ang[0] == pytest.approx(0.3) and ang[-1] == pytest.approx(1.1) and np.all(np.diff(ang) > 0)
+    (text,) = ax.texts
+    tx, ty = text.get_position()
+    assert math.atan2(ty - 2.0, tx - 1.0) == pytest.approx(0.7)          # on the bisector
+    clockwise = plot.draw_angle(ax, (0.0, 0.0), 1.0, 0.2, 1.0)
+    assert np.all(np.diff(np.arctan2(*clockwise.get_data()[::-1])) < 0)
+    with pytest.raises(ValueError, match="radius"):
+        plot.draw_angle(ax, (0, 0), 0, 1, 0.0)
+    with pytest.raises(ValueError, match="vertex"):
+        plot.draw_angle(ax, (0, math.nan), 0, 1, 1.0)
+
+
+def test_ray_runs_through_the_point_and_beyond(ax):
+    line = plot.draw_ray(ax, (0.0, 0.0), (1.0, 2.0), beyond=0.5)
+    x, y = line.get_data()
+    np.testing.assert_allclose([x[0], y[0], x[1], y[1]], [0.0, 0.0, 1.5, 3.0])
+    with pytest.raises(ValueError, match="through"):
+        plot.draw_ray(ax, (1.0, 1.0), (1.0, 1.0))
+    with pytest.raises(ValueError, match="beyond"):
+        plot.draw_ray(ax, (0.0, 0.0), (1.0, 0.0), beyond=-1)
+
+
+def test_label_point_marks_and_labels(ax):
+    text = plot.label_point(ax, (0.5, 0.25), "q")
+    assert text.get_text() == "q" and text.xy == (0.5, 0.25)
+    (dot,) = ax.lines
+    assert dot.get_xydata().tolist() == [[0.5, 0.25]]
+    with pytest.raises(ValueError, match="xy"):
+        plot.label_point(ax, "nowhere", "q")
+
+
+def test_sphere_path_follows_the_exact_flights():
+    from noslipsim.sphere3d import simulate_sphere
+
+    g = 2.0
+    ds = simulate_sphere((0.1, -0.2, 0.7), (0.3, 0.4, 0.2), (0.5, -0.1, 0.3), gravity=g, n_bounces=5)
+    x, y, z = plot.sphere_path(ds, points_per_flight=9)
+    assert len(x) == 5 * 9
+    np.testing.assert_allclose([x[0], y[0], z[0]], [0.1, -0.2, 0.7])
+    # every flight ends at its bounce, on the plane
+    ends = np.c_[x, y, z][8::9]
+    np.testing.assert_allclose(ends, ds.position.values, atol=1e-12)
+    assert z.min() >= -1e-12
+    # a sample inside the first flight: q0 + v0 t - g t^2/2 e_z
+    t1 = float(ds.time[0])
+    t = 4 * t1 / 8
+    np.testing.assert_allclose([x[4], y[4], z[4]], [0.1 + 0.3 * t, -0.2 + 0.4 * t, 0.7 + 0.2 * t - g * t * t / 2])
+    with pytest.raises(ValueError, match="points_per_flight"):
+        plot.sphere_path(ds, points_per_flight=1)
+    with pytest.raises(ValueError, match="start"):
+        plot.sphere_path(xr.Dataset(dict(ds.data_vars)))                 # the attributes lost

@@ -10,17 +10,23 @@ Figure scripts read datasets and draw with these; they never simulate.
   start and end dots (:func:`mark_ends`);
 - :func:`draw_portrait`: a velocity portrait on the unit disk;
 - :func:`draw_stability_grid`: a 2D grid with a theoretical threshold;
+- :func:`draw_angle`, :func:`draw_ray`, :func:`label_point`: annotations of
+  schematic figures;
+- :func:`sphere_path`: the 3D path of a bouncing sphere;
 - :func:`save_figure`: PDF and PNG, byte-stable;
 - :func:`numbers_markdown`: the table of the paper's computed numbers.
 """
+from .annotate import draw_angle, draw_ray, label_point
 from .grids import draw_stability_grid
 from .numbers import numbers_markdown
 from .orbits import draw_orbit, draw_spin, mark_ends, orbit_nodes, orbit_path
 from .portraits import draw_portrait, portrait_points
 from .save import save_figure
+from .sphere import sphere_path
 from .style import LAW_COLORS, STYLE, law_color, style_context, use_style
 from .table import auto_window, draw_table, scene_of
 
 __all__ = ["LAW_COLORS", "STYLE", "auto_window", "draw_orbit", "draw_portrait", "draw_spin",
            "draw_stability_grid", "draw_table", "law_color", "mark_ends", "numbers_markdown", "orbit_nodes",
            "orbit_path", "portrait_points", "save_figure", "scene_of", "style_context", "use_style"]
+__all__ += ["draw_angle", "draw_ray", "label_point", "sphere_path"]

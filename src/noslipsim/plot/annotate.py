@@ -1,0 +1,103 @@
+"""Annotations for schematic figures: angle arcs, rays, labelled points.
+
+Angles are in radians, counter-clockwise from the +x axis, in data
+coordinates of an equal-aspect axes (as :func:`noslipsim.plot.draw_table`
+sets), so an arc of radius ``r`` is a circular arc on the page.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: Samples along an angle arc.
+ARC_POINTS = 48
+
+
+def _point(value, field):
+    try:
+        x, y = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{field}: expected a point (x, y), got {value!r}") from None
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise ValueError(f"{field}: must be finite, got {value!r}")
+    return x, y
+
+
+def _positive(value, field):
+    value = float(value)
+    if not (math.isfinite(value) and value > 0):
+        raise ValueError(f"{field}: must be finite and > 0, got {value}")
+    return value
+
+
+def draw_angle(ax, vertex, angle0, angle1, radius, label=None, *, color="k", linewidth=0.6,
+               label_distance=1.45, fontsize=None, zorder=6):
+    """Draw the angle from direction ``angle0`` to ``angle1`` at ``vertex`` as an arc, with a label.
+
+    The arc runs counter-clockwise from ``angle0`` to ``angle1`` when
+    ``angle1 > angle0`` and clockwise otherwise (the shorter way is not
+    assumed: give the angles in the order you mean).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    vertex : (float, float)
+        The angle's vertex (data units).
+    angle0, angle1 : float
+        Directions of its two sides (radians, counter-clockwise from +x).
+    radius : float
+        Radius of the arc (data units, > 0).
+    label : str, optional
+        Text placed on the bisector at ``label_distance * radius``.
+
+    Returns
+    -------
+    matplotlib.lines.Line2D
+        The arc.
+    """
+    x, y = _point(vertex, "vertex")
+    radius = _positive(radius, "radius")
+    a0, a1 = float(angle0), float(angle1)
+    if not (math.isfinite(a0) and math.isfinite(a1)):
+        raise ValueError(f"angle0, angle1: must be finite, got {angle0!r}, {angle1!r}")
+    ang = np.linspace(a0, a1, ARC_POINTS)
+    (arc,) = ax.plot(x + radius * np.cos(ang), y + radius * np.sin(ang), color=color, linewidth=linewidth,
+                     zorder=zorder)
+    if label is not None:
+        mid = 0.5 * (a0 + a1)
+        ax.text(x + label_distance * radius * math.cos(mid), y + label_distance * radius * math.sin(mid), label,
+                ha="center", va="center", color=color, fontsize=fontsize, zorder=zorder)
+    return arc
+
+
+def draw_ray(ax, origin, through, *, beyond=0.25, color="k", linewidth=0.6, linestyle="--", zorder=1):
+    """Draw the line from ``origin`` through ``through``, continued ``beyond`` times their distance past it.
+
+    Used for tangent lines and wedge walls in schematic figures.
+
+    Returns
+    -------
+    matplotlib.lines.Line2D
+    """
+    p = np.array(_point(origin, "origin"))
+    q = np.array(_point(through, "through"))
+    if np.array_equal(p, q):
+        raise ValueError(f"through: must differ from origin {tuple(p)}")
+    beyond = float(beyond)
+    if not (math.isfinite(beyond) and beyond >= 0):
+        raise ValueError(f"beyond: must be finite and >= 0, got {beyond}")
+    end = q + beyond * (q - p)
+    (line,) = ax.plot([p[0], end[0]], [p[1], end[1]], color=color, linewidth=linewidth, linestyle=linestyle,
+                      zorder=zorder)
+    return line
+
+
+def label_point(ax, xy, text, *, offset=(4.0, 4.0), color="k", marker="o", markersize=3.0, fontsize=None,
+                ha="left", va="bottom", zorder=7):
+    """Mark a point with a dot and a label ``offset`` points away from it (e.g. ``q_0``, ``q_1``)."""
+    x, y = _point(xy, "xy")
+    if marker:
+        ax.plot([x], [y], marker=marker, markersize=markersize, color=color, linestyle="none", zorder=zorder)
+    return ax.annotate(text, (x, y), xytext=offset, textcoords="offset points", color=color, fontsize=fontsize,
+                       ha=ha, va=va, zorder=zorder)
