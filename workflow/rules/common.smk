@@ -13,13 +13,14 @@ validate(config, schema="../schemas/config.schema.yaml")
 # One entry per figure, grouped by subject (DESIGN numbering: figNN_topic; figS1 beyond the paper).
 FIGURES = {
     "galton": ["fig02_galtonboard", "fig03_normal", "figS1_galton_trapping"],
-    # "orbits": [...],      Figures 1, 4, 5, 6, 8, 16
+    "orbits": ["fig01_specnoslip", "fig04_pentagons", "fig05_bouncingball", "fig06_newwedge",
+               "fig08_noslipstablesinai", "fig16_3dbounce"],
     # "portraits": [...],   Figures 10-13
     # "stability": [...],   Figures 7, 9, 14, 15
 }
 
 # Subjects that compute numbers the paper states (rule numbers_<subject> in report.smk).
-NUMBER_SUBJECTS = ["galton"]
+NUMBER_SUBJECTS = ["galton", "orbits"]
 
 # Kernel variants each subject's simulations run, compiled by rule compile_kernels before the
 # simulation jobs fan out (numba's cache is not safe to fill from parallel processes, numba #4807).
@@ -29,6 +30,7 @@ NUMBER_SUBJECTS = ["galton"]
 KERNELS = {
     "galton": ["lattice+force:no-slip:final", "lattice+force:specular:final",
                "lattice+force:no-slip:orbit", "lattice+force:specular:orbit"],
+    "orbits": ["plain:specular:orbit", "plain:no-slip:orbit", "plain+force:no-slip:orbit"],
 }
 
 

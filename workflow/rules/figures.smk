@@ -56,6 +56,96 @@ rule figS1_galton_trapping:
 
 
 # ---------------------------------------------------------------- orbits (Figures 1, 4, 5, 6, 8, 16)
+rule fig01_specnoslip:
+    input:
+        specnoslip="results/orbits/specnoslip.nc",
+    output:
+        pdf="figures/fig01_specnoslip.pdf",
+        png=report("figures/fig01_specnoslip.png", caption="../report/fig01_specnoslip.rst", category="Orbits"),
+    log:
+        log_file("fig01_specnoslip"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/fig01_specnoslip.py"
+
+
+rule fig04_pentagons:
+    input:
+        pentagons="results/orbits/pentagons.nc",
+    output:
+        pdf="figures/fig04_pentagons.pdf",
+        png=report("figures/fig04_pentagons.png", caption="../report/fig04_pentagons.rst", category="Orbits"),
+    log:
+        log_file("fig04_pentagons"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/fig04_pentagons.py"
+
+
+rule fig05_bouncingball:
+    input:
+        bounce="results/orbits/bounce.nc",
+    output:
+        pdf="figures/fig05_bouncingball.pdf",
+        png=report("figures/fig05_bouncingball.png", caption="../report/fig05_bouncingball.rst", category="Orbits"),
+    log:
+        log_file("fig05_bouncingball"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/fig05_bouncingball.py"
+
+
+rule fig06_newwedge:
+    input:
+        newwedge="results/orbits/newwedge.nc",
+    output:
+        pdf="figures/fig06_newwedge.pdf",
+        png=report("figures/fig06_newwedge.png", caption="../report/fig06_newwedge.rst", category="Orbits"),
+    log:
+        log_file("fig06_newwedge"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/fig06_newwedge.py"
+
+
+rule fig08_noslipstablesinai:
+    input:
+        twodisks="results/orbits/twodisks.nc",
+    output:
+        pdf="figures/fig08_noslipstablesinai.pdf",
+        png=report("figures/fig08_noslipstablesinai.png", caption="../report/fig08_noslipstablesinai.rst", category="Orbits"),
+    log:
+        log_file("fig08_noslipstablesinai"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/fig08_noslipstablesinai.py"
+
+
+rule fig16_3dbounce:
+    input:
+        sphere="results/orbits/sphere.nc",
+    output:
+        pdf="figures/fig16_3dbounce.pdf",
+        png=report("figures/fig16_3dbounce.png", caption="../report/fig16_3dbounce.rst", category="Orbits"),
+    log:
+        log_file("fig16_3dbounce"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/fig16_3dbounce.py"
+
+
 
 # ---------------------------------------------------------------- portraits (Figures 10-13)
 

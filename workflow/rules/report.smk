@@ -36,6 +36,24 @@ rule numbers_galton:
 
 
 # ---------------------------------------------------------------- orbits
+rule numbers_orbits:
+    input:
+        specnoslip="results/orbits/specnoslip.nc",
+        pentagons="results/orbits/pentagons.nc",
+        bounce="results/orbits/bounce.nc",
+        twodisks="results/orbits/twodisks.nc",
+        sphere="results/orbits/sphere.nc",
+    output:
+        numbers="results/numbers/orbits.json",
+    log:
+        log_file("numbers_orbits"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/numbers_orbits.py"
+
+
 
 # ---------------------------------------------------------------- portraits
 

@@ -102,6 +102,120 @@ rule galton_radius_sweep:
 
 
 # ---------------------------------------------------------------- orbits (Figures 1, 4, 5, 6, 8, 16)
+rule orbits_specnoslip:
+    # Figure 1
+    input:
+        kernels=ancient(KERNELS_DONE),
+    output:
+        specnoslip="results/orbits/specnoslip.nc",
+    params:
+        specnoslip=config["orbits"]["specnoslip"],
+    log:
+        log_file("orbits_specnoslip"),
+    benchmark:
+        benchmark_file("orbits_specnoslip")
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/orbits_specnoslip.py"
+
+
+rule orbits_pentagons:
+    # Figure 4
+    input:
+        kernels=ancient(KERNELS_DONE),
+    output:
+        pentagons="results/orbits/pentagons.nc",
+    params:
+        pentagons=config["orbits"]["pentagons"],
+    log:
+        log_file("orbits_pentagons"),
+    benchmark:
+        benchmark_file("orbits_pentagons")
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/orbits_pentagons.py"
+
+
+rule orbits_bounce:
+    # Figure 5
+    input:
+        kernels=ancient(KERNELS_DONE),
+    output:
+        bounce="results/orbits/bounce.nc",
+    params:
+        bounce=config["orbits"]["bounce"],
+    log:
+        log_file("orbits_bounce"),
+    benchmark:
+        benchmark_file("orbits_bounce")
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/orbits_bounce.py"
+
+
+rule orbits_newwedge:
+    # Figure 6
+    input:
+        kernels=ancient(KERNELS_DONE),
+    output:
+        newwedge="results/orbits/newwedge.nc",
+    params:
+        newwedge=config["orbits"]["newwedge"],
+    log:
+        log_file("orbits_newwedge"),
+    benchmark:
+        benchmark_file("orbits_newwedge")
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/orbits_newwedge.py"
+
+
+rule orbits_twodisks:
+    # Figure 8
+    input:
+        kernels=ancient(KERNELS_DONE),
+    output:
+        twodisks="results/orbits/twodisks.nc",
+    params:
+        twodisks=config["orbits"]["twodisks"],
+    log:
+        log_file("orbits_twodisks"),
+    benchmark:
+        benchmark_file("orbits_twodisks")
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/orbits_twodisks.py"
+
+
+rule orbits_sphere:
+    # Figure 16
+    input:
+        kernels=ancient(KERNELS_DONE),
+    output:
+        sphere="results/orbits/sphere.nc",
+    params:
+        sphere=config["orbits"]["sphere"],
+    log:
+        log_file("orbits_sphere"),
+    benchmark:
+        benchmark_file("orbits_sphere")
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/orbits_sphere.py"
+
+
 
 # ---------------------------------------------------------------- portraits (Figures 10-13)
 

@@ -1,0 +1,66 @@
+"""The orbit figures' numbers, computed: exit angles of Figure 1, the 14-periodic pentagon orbit,
+drifts, two-disk stability."""
+import json
+import sys
+
+sys.stderr = open(snakemake.log[0], "w", buffering=1)
+
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+
+from noslipsim import theory  # noqa: E402
+
+spec = xr.load_dataset(snakemake.input.specnoslip).set_index(orbit="role")
+pent = xr.load_dataset(snakemake.input.pentagons)
+bounce = xr.load_dataset(snakemake.input.bounce)
+disks = xr.load_dataset(snakemake.input.twodisks).set_index(orbit="role")
+sphere = xr.load_dataset(snakemake.input.sphere)
+
+numbers = {
+    "specular_exit_from_vertical": dict(
+        description="Figure 1: specular orbit leaving the scatterer, angle from the vertical (degrees)",
+        value=float(spec.exit_from_vertical.sel(orbit="specular")), format=".1f",
+        paper="reflects nearly vertically"),
+    "noslip_exit_to_corner": dict(
+        description="Figure 1: no-slip orbit leaving the scatterer, angle off the upper left corner (degrees)",
+        value=float(spec.exit_to_corner.sel(orbit="no-slip")), format=".1f",
+        paper="heads towards the upper left corner"),
+    "pentagon_periodic_residual": dict(
+        description=f"Figure 4: residual of the {pent.attrs['period']}-periodic no-slip pentagon orbit",
+        value=float(pent.periodic_residual), format=".1e", paper="a 14-periodic point",
+        note=f"{int(pent.periodic_iterations)} Newton steps (find_periodic_orbit)"),
+    "pentagon_periodic_kind": dict(
+        description="Figure 4: linear class of that orbit (rotation angle of its monodromy, rad)",
+        value=f"{str(pent.periodic_kind.values)} ({float(pent.rotation_angle):.4f})",
+        paper="orbit restricted to a corridor"),
+    "pentagon_corridor_width": dict(
+        description=f"Figure 4: corridor width after {int(pent.n_collisions[2])} collisions, velocity turned "
+                    f"{pent.attrs['perturbation']:g} rad", value=float(pent.corridor_width), format=".3f",
+        note="largest distance of a collision point from the periodic orbit's"),
+}
+for i in range(bounce.sizes["orbit"]):
+    o = bounce.isel(orbit=i)
+    g = bounce.attrs["gravity"]
+    u = float(np.sqrt(2 * g * float(o.y_start)))                  # the start is a flight's apex
+    want = float(theory.half_plane_drift(float(o.vx_start), float(o.spin_start), u, bounce.attrs["gamma"], g))
+    numbers[f"bounce_drift_{i}"] = dict(
+        description=f"Figure 5: drift per two bounces, γw/v_x = {float(o.spin_ratio):g}",
+        value=float(o.drift), format=".6g", paper="0 iff v_x = γw (Theorem 1)",
+        note=f"formula 4u(v_x - γw)/(g(1+γ²)) = {want:.6g}")
+numbers["twodisk_eigen_sum"] = dict(
+    description=f"Figure 8: λ + 1/λ of the 2-periodic orbit between the disks ({str(disks.kind.values)})",
+    value=float(disks.eigen_sum), format=".10f", paper="elliptic below the threshold",
+    note=f"closed form {float(disks.eigen_sum_theory):.10f}")
+numbers["twodisk_box_collisions"] = dict(
+    description="Figure 8: collisions with the box, specular / no-slip",
+    value=f"{int(disks.box_collisions.sel(orbit='specular'))} of {int(disks.n_collisions.sel(orbit='specular'))}"
+          f" / {int(disks.box_collisions.sel(orbit='no-slip'))} of {int(disks.n_collisions.sel(orbit='no-slip'))}",
+    paper="specular scatters, no-slip stays between the disks")
+numbers["sphere_drift"] = dict(
+    description="Figure 16: 3D drift per two bounces, measured",
+    value=float(np.hypot(*sphere.drift.values[:2])), format=".10f",
+    paper="drift along e1, 2-periodic along e2",
+    note=f"formula |4u(v_T - γ n×W_T)/(g(1+γ²))| = {float(np.hypot(*sphere.drift_theory.values[:2])):.10f}")
+
+with open(snakemake.output.numbers, "w") as fh:
+    json.dump(numbers, fh, indent=1, ensure_ascii=False)
