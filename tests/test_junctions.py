@@ -46,3 +46,36 @@ def test_acute_corners_never_leak(angle, law):
     ds = simulate(tri, (0.9, 0.0), (-1.0, 0.3 * h), 0.1, max_collisions=3000)
     assert ds.attrs["stop_reason"] in ("max_collisions", "corner")
     assert leak_depth(tri, ds) >= -1e-12
+
+
+def _all_pairs(scene):
+    """Slow twin of junction_arrays on a plain scene: every pair of elements, no box filter."""
+    from noslipsim.junctions import _ON_TOL, _meet
+
+    tol = _ON_TOL * scene.scale
+    per = [[] for _ in scene.elements]
+    for a, ea in enumerate(scene.elements):
+        for b in range(a + 1, len(scene.elements)):
+            for p in _meet(ea, scene.elements[b], tol):
+                per[a].append(p)
+                per[b].append(p)
+    return [np.unique(np.round(np.array(lst, float).reshape(-1, 2), 12), axis=0) for lst in per]
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_box_filter_misses_no_junction(seed):
+    """Skipping pairs whose bounding boxes are apart finds the same junctions as testing every pair."""
+    from noslipsim import Line
+
+    rng = np.random.default_rng(seed)
+    elements = []
+    for _ in range(14):
+        if rng.random() < 0.5:
+            elements.append(Circle(tuple(rng.uniform(-1, 1, 2)), float(rng.uniform(0.05, 0.8))))
+        else:
+            elements.append(Segment(tuple(rng.uniform(-1, 1, 2)), tuple(rng.uniform(-1, 1, 2))))
+    # pieces that only touch at a box edge or a vertex, and an infinite line (unbounded box)
+    elements += [Segment((1.5, 0.0), (2.0, 0.0)), Segment((2.0, 0.0), (2.0, 0.5)), Line((0.0, -2.0), (0.0, 1.0))]
+    scene = Scene(tuple(elements))
+    for got, want in zip(junctions(scene), _all_pairs(scene)):
+        np.testing.assert_array_equal(got, want)

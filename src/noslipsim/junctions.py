@@ -99,8 +99,13 @@ def junction_arrays(scene):
                  for i, o1, o2 in reaching_copies(scene.elements, scene.lattice)]
     tol = _ON_TOL * max(scene.scale, 1e-300)
     per = [[] for _ in scene.elements]
+    # a meeting point lies within tol of both elements, hence in both boxes grown by tol:
+    # pairs whose boxes are apart cannot meet, and skipping them changes no output
+    boxes = np.array([e.bbox() for _, e, _ in items], float).reshape(-1, 4)
+    lo, hi = boxes[:, :2] - tol, boxes[:, 2:] + tol
     for a in range(len(items)):
-        for b in range(a + 1, len(items)):
+        near = np.flatnonzero(np.all(lo[a + 1:] <= hi[a], axis=1) & np.all(lo[a] <= hi[a + 1:], axis=1)) + a + 1
+        for b in near:
             ia, ea, sa = items[a]
             ib, eb, sb = items[b]
             for p in _meet(ea, eb, tol):
