@@ -282,3 +282,75 @@ def test_sphere_path_follows_the_exact_flights():
         plot.sphere_path(ds, points_per_flight=1)
     with pytest.raises(ValueError, match="start"):
         plot.sphere_path(xr.Dataset(dict(ds.data_vars)))                 # the attributes lost
+
+
+# ---------------------------------------------------------------- stability figures
+def _log(elements, s, spin, deviation=None):
+    n = len(elements)
+    data = {"element": ("collision", np.asarray(elements, float)), "s": ("collision", np.asarray(s, float)),
+            "spin": ("collision", np.asarray(spin, float))}
+    if deviation is not None:
+        data["deviation"] = ("collision", np.asarray(deviation, float))
+    return xr.Dataset(data, coords={"collision": np.arange(n)})
+
+
+def test_class_boundary_outlines_the_elliptic_cells(ax):
+    kinds = xr.DataArray(np.array([["hyperbolic"] * 4, ["hyperbolic", "elliptic", "elliptic", "elliptic"],
+                                   ["elliptic"] * 4]), dims=("radius", "phi"),
+                         coords={"radius": [0.1, 0.2, 0.3], "phi": [0.1, 0.2, 0.3, 0.4]})
+    cs = plot.draw_class_boundary(ax, kinds)
+    vertices = np.concatenate([p.vertices for p in cs.get_paths()])
+    # the level 1/2 runs half-way between the hyperbolic and the elliptic cells
+    assert vertices[:, 1].min() >= 0.1 - 1e-12 and vertices[:, 1].max() <= 0.25 + 1e-12
+    assert np.any(np.isclose(vertices[:, 1], 0.25)) and np.any(np.isclose(vertices[:, 1], 0.15))
+    assert plot.draw_class_boundary(ax, kinds, kind="parabolic") is None        # no such cell: nothing drawn
+    with pytest.raises(ValueError, match="2D"):
+        plot.draw_class_boundary(ax, kinds.isel(radius=0))
+
+
+def test_return_points_keep_one_wall_and_mark_the_periodic_point(ax):
+    orbit = _log([1, 0, 1, 0, np.nan], [0.5, -1.0, 0.6, -1.1, np.nan], [0.1, 0.2, 0.3, 0.4, np.nan])
+    s, w = plot.return_points(orbit, 0)
+    np.testing.assert_array_equal(s, [-1.0, -1.1])
+    np.testing.assert_array_equal(w, [0.2, 0.4])
+    fixed = _log([1, 0], [0.5, -1.05], [0.1, 0.3])
+    pts = plot.draw_return_points(ax, orbit, 1, fixed=fixed)
+    np.testing.assert_array_equal(pts.get_offsets(), [[0.5, 0.1], [0.6, 0.3]])
+    assert ax.lines[-1].get_xdata()[0] == 0.5 and ax.lines[-1].get_marker() == "x"
+    with pytest.raises(ValueError, match="no collision on element 2"):
+        plot.draw_return_points(ax, orbit, 2, fixed=fixed)
+    with pytest.raises(ValueError, match="spin"):
+        plot.return_points(orbit.drop_vars("spin"), 0)
+
+
+def test_deviation_line_and_its_linear_growth(ax):
+    lam = 1.5
+    k = np.arange(30)
+    dev = 1e-4 * lam ** (k / 2.0)
+    line = plot.draw_deviation(ax, _log([0] * 30, k, k, deviation=dev), lambda_max=lam, anchor=1e-3)
+    np.testing.assert_allclose(line.get_ydata(), dev)
+    dashed = ax.lines[-1]
+    x, y = dashed.get_xdata(), dashed.get_ydata()
+    assert x[0] == np.argmax(dev >= 1e-3) and y.max() <= 1.0       # from the anchor on, below 1
+    np.testing.assert_allclose(y, dev[x], rtol=1e-12)               # exact growth: the prediction lies on it
+    assert ax.get_yscale() == "log"
+    with pytest.raises(ValueError, match="deviation"):
+        plot.draw_deviation(ax, _log([0], [0], [0]))
+    with pytest.raises(ValueError, match="lambda_max"):
+        plot.draw_deviation(ax, _log([0] * 30, k, k, deviation=dev), lambda_max=-1.0)
+
+
+def test_two_disk_setup_puts_q0_q1_and_the_flight_where_the_experiment_has_them(ax):
+    R, phi, theta = 0.6, 0.5, 0.6
+    q0, q1 = plot.draw_two_disk_setup(ax, R, phi, theta)
+    np.testing.assert_allclose(q0, [-1 + R * math.cos(phi), R * math.sin(phi)])
+    np.testing.assert_allclose(q1, [1 - R * math.cos(phi), R * math.sin(phi)])
+    flight = max(ax.lines, key=lambda l: len(l.get_xdata()))          # the sampled parabola
+    x, y = flight.get_xdata(), flight.get_ydata()
+    np.testing.assert_allclose([x[0], y[0], x[-1], y[-1]], [*q0, *q1], atol=1e-12)
+    assert (y[1] - y[0]) / (x[1] - x[0]) == pytest.approx(math.tan(theta), rel=0.05)   # launched at theta
+    assert len([p for p in ax.patches if isinstance(p, plt.Circle)]) == 2
+    for bad in ({"radius": 1.0}, {"phi": 0.0}, {"theta": 2.0}):
+        args = {"radius": R, "phi": phi, "theta": theta, **bad}
+        with pytest.raises(ValueError, match=next(iter(bad))):
+            plot.draw_two_disk_setup(ax, **args)

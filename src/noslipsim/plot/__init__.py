@@ -13,6 +13,9 @@ Figure scripts read datasets and draw with these; they never simulate.
 - :func:`draw_angle`, :func:`draw_ray`, :func:`label_point`: annotations of
   schematic figures;
 - :func:`sphere_path`: the 3D path of a bouncing sphere;
+- :func:`draw_class_boundary`, :func:`draw_return_points`, :func:`draw_deviation`,
+  :func:`draw_two_disk_setup`: stability figures (linear class over a survival
+  map, returns to a wall, growth of a perturbation, the two-disk set-up);
 - :func:`save_figure`: PDF and PNG, byte-stable;
 - :func:`numbers_markdown`: the table of the paper's computed numbers.
 """
@@ -22,6 +25,7 @@ from .numbers import numbers_markdown
 from .orbits import draw_orbit, draw_spin, mark_ends, orbit_nodes, orbit_path
 from .portraits import draw_portrait, portrait_points
 from .save import save_figure
+from .stability import draw_class_boundary, draw_deviation, draw_return_points, draw_two_disk_setup, return_points
 from .sphere import sphere_path
 from .style import LAW_COLORS, STYLE, law_color, style_context, use_style
 from .table import auto_window, draw_table, scene_of
@@ -30,3 +34,4 @@ __all__ = ["LAW_COLORS", "STYLE", "auto_window", "draw_orbit", "draw_portrait", 
            "draw_stability_grid", "draw_table", "law_color", "mark_ends", "numbers_markdown", "orbit_nodes",
            "orbit_path", "portrait_points", "save_figure", "scene_of", "style_context", "use_style"]
 __all__ += ["draw_angle", "draw_ray", "label_point", "sphere_path"]
+__all__ += ["draw_class_boundary", "draw_deviation", "draw_return_points", "draw_two_disk_setup", "return_points"]
