@@ -16,11 +16,11 @@ FIGURES = {
     "orbits": ["fig01_specnoslip", "fig04_pentagons", "fig05_bouncingball", "fig06_newwedge",
                "fig08_noslipstablesinai", "fig16_3dbounce"],
     # "portraits": [...],   Figures 10-13
-    # "stability": [...],   Figures 7, 9, 14, 15
+    "stability": ["fig07_wedge", "fig09_2perunstablea", "fig14_2perunstable", "fig15_stabexp"],
 }
 
 # Subjects that compute numbers the paper states (rule numbers_<subject> in report.smk).
-NUMBER_SUBJECTS = ["galton", "orbits"]
+NUMBER_SUBJECTS = ["galton", "orbits", "stability"]
 
 # Kernel variants each subject's simulations run, compiled by rule compile_kernels before the
 # simulation jobs fan out (numba's cache is not safe to fill from parallel processes, numba #4807).
@@ -30,6 +30,9 @@ NUMBER_SUBJECTS = ["galton", "orbits"]
 KERNELS = {
     "galton": ["lattice+force:no-slip:final", "lattice+force:specular:final",
                "lattice+force:no-slip:orbit", "lattice+force:specular:orbit"],
+    # wedges (simulate, monodromy, the periodic-orbit finder) and the two-disk grids (sync scheduler: serial kernels)
+    "stability": ["plain+force:no-slip:orbit", "plain:no-slip:orbit", "plain:no-slip:log",
+                  "plain:no-slip:count", "plain+force:no-slip:log", "plain+force:no-slip:count"],
     "orbits": ["plain:specular:orbit", "plain:no-slip:orbit", "plain+force:no-slip:orbit"],
 }
 
@@ -62,6 +65,11 @@ def core_digest():
     from noslipsim._numba_cache import source_digest
 
     return source_digest()
+
+
+def stability_common():
+    """The stability config values every stability dataset depends on (gamma, gravity)."""
+    return {k: config["stability"][k] for k in ("gamma", "gravity")}
 
 
 # ---------------------------------------------------------------- runtime

@@ -150,3 +150,68 @@ rule fig16_3dbounce:
 # ---------------------------------------------------------------- portraits (Figures 10-13)
 
 # ---------------------------------------------------------------- stability (Figures 7, 9, 14, 15)
+rule fig07_wedge:
+    input:
+        orbits="results/stability/wedge_orbits.nc",
+    output:
+        pdf="figures/fig07_wedge.pdf",
+        png=report("figures/fig07_wedge.png", caption="../report/fig07_wedge.rst", category="Stability"),
+    log:
+        log_file("fig07_wedge"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/fig07_wedge.py"
+
+
+rule fig09_2perunstablea:
+    input:
+        orbits="results/stability/wedge_perturbed.nc",
+    output:
+        pdf="figures/fig09_2perunstablea.pdf",
+        png=report("figures/fig09_2perunstablea.png", caption="../report/fig09_2perunstablea.rst",
+                   category="Stability"),
+    log:
+        log_file("fig09_2perunstablea"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/fig09_2perunstablea.py"
+
+
+rule fig14_2perunstable:
+    input:
+        orbits="results/stability/launch_orbits.nc",
+        scan="results/stability/launch_scan.nc",
+    output:
+        pdf="figures/fig14_2perunstable.pdf",
+        png=report("figures/fig14_2perunstable.png", caption="../report/fig14_2perunstable.rst",
+                   category="Stability"),
+    log:
+        log_file("fig14_2perunstable"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/fig14_2perunstable.py"
+
+
+rule fig15_stabexp:
+    input:
+        noforce="results/stability/grid_noforce.nc",
+        force="results/stability/grid_force.nc",
+        theta="results/stability/grid_theta.nc",
+    output:
+        pdf="figures/fig15_stabexp.pdf",
+        png=report("figures/fig15_stabexp.png", caption="../report/fig15_stabexp.rst", category="Stability"),
+    params:
+        sketch=config["stability"]["grids"]["sketch"],
+    log:
+        log_file("fig15_stabexp"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/fig15_stabexp.py"

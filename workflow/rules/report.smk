@@ -58,3 +58,23 @@ rule numbers_orbits:
 # ---------------------------------------------------------------- portraits
 
 # ---------------------------------------------------------------- stability
+rule numbers_stability:
+    input:
+        noforce="results/stability/grid_noforce.nc",
+        force="results/stability/grid_force.nc",
+        theta="results/stability/grid_theta.nc",
+        scan="results/stability/launch_scan.nc",
+        wedge="results/stability/wedge_orbits.nc",
+    output:
+        numbers="results/numbers/stability.json",
+    params:
+        band=config["stability"]["grids"]["threshold_band"],
+        min_run=config["stability"]["grids"]["min_run"],
+        thetas=config["stability"]["launch"]["thetas"],
+    log:
+        log_file("numbers_stability"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/numbers_stability.py"

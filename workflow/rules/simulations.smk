@@ -220,3 +220,104 @@ rule orbits_sphere:
 # ---------------------------------------------------------------- portraits (Figures 10-13)
 
 # ---------------------------------------------------------------- stability (Figures 7, 9, 14, 15)
+rule stability_wedge_orbits:
+    input:
+        kernels=KERNELS_DONE,
+    output:
+        orbits="results/stability/wedge_orbits.nc",
+    params:
+        common=stability_common(),
+        run=config["stability"]["wedge"],
+    log:
+        log_file("stability_wedge_orbits"),
+    benchmark:
+        benchmark_file("stability_wedge_orbits")
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/stability_wedge_orbits.py"
+
+
+rule stability_wedge_perturbed:
+    input:
+        kernels=KERNELS_DONE,
+    output:
+        orbits="results/stability/wedge_perturbed.nc",
+    params:
+        common=stability_common(),
+        run=config["stability"]["perturbed"],
+        section="perturbed",
+    log:
+        log_file("stability_wedge_perturbed"),
+    benchmark:
+        benchmark_file("stability_wedge_perturbed")
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/stability_perturbed.py"
+
+
+rule stability_launch_orbits:
+    input:
+        kernels=KERNELS_DONE,
+    output:
+        orbits="results/stability/launch_orbits.nc",
+    params:
+        common=stability_common(),
+        run={k: v for k, v in config["stability"]["launch"].items() if k != "scan"},
+        section="launch",
+    log:
+        log_file("stability_launch_orbits"),
+    benchmark:
+        benchmark_file("stability_launch_orbits")
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/stability_perturbed.py"
+
+
+rule stability_launch_scan:
+    input:
+        kernels=KERNELS_DONE,
+    output:
+        scan="results/stability/launch_scan.nc",
+    params:
+        common=stability_common(),
+        run={k: config["stability"]["launch"][k] for k in ("ell", "thetas", "scan")},
+    log:
+        log_file("stability_launch_scan"),
+    benchmark:
+        benchmark_file("stability_launch_scan")
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/stability_launch_scan.py"
+
+
+rule stability_grid:
+    # one rule for the three grids of Figure 15 (noforce, force, theta); each depends on its own
+    # config section and the shared one only
+    input:
+        kernels=KERNELS_DONE,
+    output:
+        grid="results/stability/grid_{kind}.nc",
+    wildcard_constraints:
+        kind="noforce|force|theta",
+    params:
+        common=stability_common(),
+        shared=config["stability"]["grids"]["shared"],
+        grid=lambda wildcards: config["stability"]["grids"][wildcards.kind],
+        kind=lambda wildcards: wildcards.kind,
+    log:
+        log_file("stability_grid_{kind}"),
+    benchmark:
+        benchmark_file("stability_grid_{kind}")
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/stability_grid.py"

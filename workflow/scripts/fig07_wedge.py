@@ -1,0 +1,57 @@
+"""Figure 7: wedges under gravity (force down). Left: four path-reversing 2-periodic orbits; left centre: the
+same in a wedge opening down; right centre: a period-8 orbit; right: a 2-periodic orbit that is not path reversing."""
+import sys
+
+sys.stderr = open(snakemake.log[0], "w", buffering=1)
+
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+
+from noslipsim import plot  # noqa: E402
+
+MARGIN = 0.12  # share of the orbits' extent shown around them
+COLORS = ["#0072B2", "#D55E00", "#009E73", "#CC79A7"]
+
+ds = xr.load_dataset(snakemake.input.orbits)
+cases = ds.case.values.astype(str)
+panels = [("path-reversing, 2-periodic", np.flatnonzero(cases == "path-reversing")),
+          ("wedge opening down", np.flatnonzero(cases == "path-reversing, wedge opening down"))]
+panels += [(c, np.flatnonzero(cases == c)) for c in dict.fromkeys(cases) if not c.startswith("path-reversing")]
+panels = [(title, rows) for title, rows in panels if rows.size]
+
+
+def describe(o):
+    ev = o.eigenvalue_real.values + 1j * o.eigenvalue_imag.values
+    rot = np.abs(np.angle(ev)).max()
+    text = f"{o.linear_kind.values}, eigenvalues 1, $e^{{\\pm {rot:.3f} i}}$" if o.linear_kind == "elliptic" \
+        else f"{o.linear_kind.values}, $|\\lambda| = {np.abs(ev).max():.3g}$"
+    if not int(o.path_reversing):
+        text += f"\n$\\max|v_t - \\gamma w|/|V| = {float(o.reversal_mismatch):.2f}$"
+    return text
+
+
+plot.use_style()
+fig, axes = plt.subplots(1, len(panels), figsize=(6.5, 2.1))
+for ax, (title, rows) in zip(np.atleast_1d(axes), panels):
+    paths = [plot.orbit_path(ds.isel(orbit=int(i))) for i in rows]
+    x = np.concatenate([p[0] for p in paths] + [[0.0]])   # the vertex at the origin stays in view
+    y = np.concatenate([p[1] for p in paths] + [[0.0]])
+    pad = MARGIN * max(np.ptp(x), np.ptp(y))
+    half = max(np.abs(x).max(), 0.5 * (np.ptp(y) + 2 * pad)) + pad   # centred on the bisector
+    window = (-half, half, y.min() - pad, y.max() + pad)
+    plot.draw_table(ax, ds.isel(orbit=int(rows[0])), window)
+    for k, i in enumerate(rows):
+        o = ds.isel(orbit=int(i))
+        plot.draw_orbit(ax, o, color=COLORS[k % len(COLORS)], linewidth=0.9, ends=False)
+    if len(rows) > 1:
+        note = "\n$\\theta$ = " + ", ".join(f"{float(ds.theta[i]):g}" for i in rows)
+    else:
+        note = "\n" + describe(ds.isel(orbit=int(rows[0])))
+    ax.set_title(f"{title}{note}", fontsize=7.5)
+    ax.set_xticks([])
+    ax.set_yticks([])
+plot.save_figure(fig, snakemake.output.pdf)

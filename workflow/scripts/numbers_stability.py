@@ -1,0 +1,101 @@
+"""The paper's stability claims, computed: the grids against the ellipticity threshold and the monodromy, the
+pattern along the launch angle, the wedge's launch-angle transition, the period-8 and non-path-reversing orbits."""
+import json
+import math
+import sys
+
+sys.stderr = open(snakemake.log[0], "w", buffering=1)
+
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+
+from noslipsim.experiments import survival_pattern  # noqa: E402
+
+band, min_run = snakemake.params.band, snakemake.params.min_run
+grid = {k: xr.load_dataset(snakemake.input[k]) for k in ("noforce", "force", "theta")}
+scan, wedge = xr.load_dataset(snakemake.input.scan), xr.load_dataset(snakemake.input.wedge)
+
+
+def threshold_side(ds):
+    """Share of the points |R - R*(phi)| >= band whose survival is on the side the force-free threshold predicts."""
+    R, Rs = ds.radius.values[:, None], ds.radius_threshold.values[None, :]
+    keep = np.abs(R - Rs) >= band
+    agree = (R > Rs) == ds.survived.values.astype(bool)
+    return float(agree[keep].mean()), int(keep.sum()), int(keep.size)
+
+
+numbers = {}
+share, kept, total = threshold_side(grid["noforce"])
+numbers["noforce_threshold_side"] = dict(
+    description="no force: share of the R × φ grid whose survival lies on the side of the ellipticity threshold "
+                "that the theory predicts", value=share, format=".1%", paper="results as expected",
+    note=f"{kept} of {total} points, |R - R*(φ)| < {band:g} left out; nearly tangent orbits (φ near π/2) included")
+numbers["noforce_monodromy_agreement"] = dict(
+    description="no force: share of the grid where survival agrees with the monodromy's class",
+    value=grid["noforce"].attrs["agreement_share"], format=".1%", paper="(not computed)",
+    note=f"{grid['noforce'].attrs['n_decided']} elliptic or hyperbolic points")
+theta_f = grid["force"].attrs["theta"]
+numbers["force_monodromy_agreement"] = dict(
+    description=f"force, θ = {theta_f:g}: share of the R × φ grid where survival agrees with the class of the "
+                "monodromy under gravity", value=grid["force"].attrs["agreement_share"], format=".1%",
+    paper="(not computed)", note=f"{grid['force'].attrs['n_decided']} elliptic or hyperbolic points")
+share, kept, total = threshold_side(grid["force"])
+numbers["force_threshold_side"] = dict(
+    description=f"force, θ = {theta_f:g}: share of the grid on the side of the force-free threshold", value=share,
+    format=".1%", paper="the stability threshold is unaltered",
+    note=f"{kept} of {total} points; holds at small θ only: the R × θ grid shows R* falling to 0 at θ = π/2 - φ")
+
+ds = grid["theta"]
+phi = ds.attrs["phi"]
+rows = survival_pattern(ds, dim="theta", min_run=min_run)
+patterns = [r["pattern"] for r in rows]
+radii = np.array([r["radius"] for r in rows])
+sus = [r for r in rows if "s-u-s" in r["pattern"]]
+usu = radii[[p == "u-s-u" for p in patterns]]
+su = radii[[p == "s-u" for p in patterns]]
+upper = [r["intervals"][-1][1] for r in rows if r["intervals"] and r["intervals"][-1][1] < ds.theta.values[-1]]
+elliptic_high = int(((ds.linear_kind == "elliptic") & (ds.theta > math.pi / 2 - phi)).sum())
+seen = "seen at R = " + ", ".join(f"{r['radius']:.2f}" for r in sus) if sus else "not seen"
+span = lambda r: f"R {r.min():.2f}-{r.max():.2f} ({r.size} radii)" if r.size else "no radius"  # noqa: E731
+numbers["theta_pattern"] = dict(
+    description=f"stable → unstable → stable along θ at φ = {phi:g} (survival, each radius)",
+    value=f"{seen}; unstable → stable → unstable at {span(usu)}, stable → unstable at {span(su)}",
+    paper="stable → unstable → stable, a stable region near θ ≈ 1.3",
+    note=(f"the survived interval ends at θ = {np.mean(upper):.3f} ± {np.std(upper):.3f} "
+          f"(π/2 - φ = {math.pi / 2 - phi:.3f}); {elliptic_high} elliptic orbits above π/2 - φ") if upper else "")
+numbers["theta_grid_monodromy_agreement"] = dict(
+    description=f"R × θ at φ = {phi:g}: share where survival agrees with the monodromy's class",
+    value=ds.attrs["agreement_share"], format=".1%", paper="(not computed)")
+
+launch_phi = float(scan.phi.values[0])
+t_star = float(scan.theta_transition.sel(phi=launch_phi))
+lam = scan.lambda_max.sel(phi=launch_phi)
+at = {t: float(lam.sel(theta=t, method="nearest")) for t in snakemake.params.thetas}
+numbers["wedge_transition_theta"] = dict(
+    description=f"wedge of half-angle π/7 (full angle 2π/7): launch angle where the 2-periodic orbit turns from "
+                "elliptic to hyperbolic", value=t_star, format=".6f",
+    paper="between 1.122 (stable) and 1.126 (markedly unstable)",
+    note=(f"= π/2 - π/7 = {math.pi / 2 - launch_phi:.6f}; |λ| per period "
+          + ", ".join(f"{v:.4f} at {t:g}" for t, v in at.items())
+          + "; with half-angle 2π/7 (the paper's own definition) at "
+          + ", ".join(f"{float(t):.4f}" for p, t in zip(scan.phi.values, scan.theta_transition.values)
+                      if not np.isclose(p, launch_phi))))
+for i in range(wedge.sizes["orbit"]):
+    o = wedge.isel(orbit=i)
+    case = str(o.case.values)
+    if case.startswith("path-reversing"):
+        continue
+    ev = o.eigenvalue_real.values + 1j * o.eigenvalue_imag.values
+    key = "wedge_" + "_".join("".join(c if c.isalnum() else " " for c in case.lower()).split())
+    facts = (f"residual {float(o.residual):.1e}; {o.linear_kind.values}, eigenvalues "
+             + ", ".join(f"{abs(e):.4f}∠{np.angle(e):+.4f}" for e in ev)
+             + f"; max |v_t - γw|/|V| at impacts {float(o.reversal_mismatch):.3f}")
+    if int(o.unit_count):
+        facts += (f"; eigenvalue 1: restarted {wedge.attrs['family_step']:g} along it, the finder lands on another "
+                  f"period-{int(o.period)} orbit {float(o.family_distance):.3g} away (a one-parameter family)")
+    numbers[key] = dict(description=f"wedge under gravity, {case} orbit (minimal period {int(o.minimal_period)})",
+                        value="periodic, " + ("path reversing" if int(o.path_reversing) else "not path reversing"),
+                        paper="isolated period 8" if int(o.period) == 8 else "2-periodic, not path reversing",
+                        note=facts)
+with open(snakemake.output.numbers, "w") as fh:
+    json.dump(numbers, fh, indent=1, ensure_ascii=False)
