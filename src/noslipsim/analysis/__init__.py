@@ -24,3 +24,11 @@ from .stability import agreement_share, stability_grid, stability_grid_theta
 __all__ += ["arrival_curve", "boundary_coordinate", "birkhoff_coordinates", "velocity_portrait",
             "reduced_portrait", "birkhoff_states", "reduced_states", "stability_grid", "stability_grid_theta",
             "agreement_share"]
+
+# -- regular share of a phase space and the onset of islands --
+from .islands import (
+    finite_time_lyapunov, head_on_onset_gamma, interior_starts, onset_gamma, regular_share, uniform_reduced_states,
+)
+
+__all__ += ["uniform_reduced_states", "interior_starts", "finite_time_lyapunov", "regular_share", "onset_gamma",
+            "head_on_onset_gamma"]

@@ -1,0 +1,142 @@
+"""The portrait experiments (Figures 10-13): portrait_set and its users, the closed hexagonal cell, islands."""
+import json
+import math
+
+import numpy as np
+import pytest
+
+from noslipsim import Scene, simulate, tables
+from noslipsim.analysis import islands
+from noslipsim.experiments import (
+    closed_hex_cell, hex_force_portraits, lemon_sinai_portraits, polygon_portraits, portrait_set, sinai_gamma_portraits,
+    sinai_islands_sweep,
+)
+
+TOL = 1e-9
+
+
+def check_portrait_values(ds):
+    r = np.hypot(ds.vt_unit.values, ds.w_unit.values)
+    assert (r[np.isfinite(r)] <= 1 + TOL).all()
+    s = ds.s_boundary.values
+    L = ds.boundary_length.values.reshape(ds.boundary_length.shape + (1, 1))
+    assert ((s >= -TOL) & (s <= L + TOL))[np.isfinite(s)].all()
+    # a point is either wholly recorded or padding
+    assert (np.isfinite(ds.vt_unit.values) == np.isfinite(ds.s_boundary.values)).all()
+    assert (np.isfinite(ds.vt_unit.values).sum(axis=-1) == ds.n_points.values).all()
+
+
+def test_portrait_set_stacks_cases_with_the_same_scaled_starts():
+    scenes = [tables.sinai_torus(0.3, gamma=g) for g in (0.0, 1.0)]
+    ds = portrait_set(scenes, [0.0, 1.0], dim="gamma", n_orbits=5, n_collisions=50, seed=3, lyapunov_collisions=40)
+    assert dict(ds.sizes) == {"gamma": 2, "orbit": 5, "point": 50}
+    check_portrait_values(ds)
+    st = islands.uniform_reduced_states(scenes[0], 5, 3)
+    assert np.allclose(ds.spin_start.isel(gamma=0), st["spins"]) and np.allclose(ds.spin_start.isel(gamma=1),
+                                                                                   st["spins"])
+    assert ds.regular.dtype == np.int8 and set(np.unique(ds.regular)) <= {0, 1}
+    assert (ds.regular.values == (ds.ftle.values < ds.attrs["regular_threshold"])).all()
+    assert Scene.from_dict(json.loads(str(ds.scene.values[1]))).gamma == 1.0
+    assert "sin_angle" not in ds and ds.attrs["lyapunov_collisions"] == 40
+
+
+def test_portrait_set_follows_the_orbit_of_its_interior_start():
+    scene = tables.regular_polygon(6)
+    ds = portrait_set([scene], ["hexagon"], dim="table", n_orbits=3, n_collisions=20, seed=1)
+    case = ds.sel(table="hexagon")
+    for i in range(3):
+        o = simulate(scene, (float(case.x_start[i]), float(case.y_start[i])),
+                     (float(case.vx_start[i]), float(case.vy_start[i])), float(case.spin_start[i]), max_collisions=20)
+        assert np.allclose(o.element.values, case.element.values[i])
+        assert int(case.n_points[i]) == 20
+
+
+def test_specular_and_noslip_cases_mix_with_birkhoff_p_only_where_it_means_something():
+    ds = lemon_sinai_portraits(n_orbits=4, n_collisions=60, lyapunov_collisions=50, sinai_radius=0.4)
+    check_portrait_values(ds)
+    lemon, sinai = ds.sel(table="lemon"), ds.sel(table="sinai")
+    p = lemon.sin_angle.values
+    assert (np.abs(p[np.isfinite(p)]) <= 1).all() and np.isfinite(p).any()
+    assert np.isnan(sinai.sin_angle.values).all()
+    assert (lemon.w_unit.values[np.isfinite(lemon.w_unit.values)] == 0).all()   # specular: no spin
+    assert str(lemon.law.values) == "specular" and math.isnan(float(lemon.gamma))
+    # specular Birkhoff p is the tangential part of the unit velocity (w = 0)
+    vt = lemon.vt_unit.values
+    assert np.allclose(np.abs(p), np.abs(vt), equal_nan=True)
+
+
+def test_portrait_set_refuses_bad_input():
+    sc = tables.sinai_torus(0.3)
+    with pytest.raises(ValueError, match="labels"):
+        portrait_set([sc], [1, 2])
+    with pytest.raises(ValueError, match="dim"):
+        portrait_set([sc], [1], dim="orbit")
+    with pytest.raises(ValueError, match="scenes"):
+        portrait_set(["torus"], [1])
+    with pytest.raises(ValueError, match="n_orbits"):
+        portrait_set([sc], [1], n_orbits=0)
+    with pytest.raises(ValueError, match="lyapunov_collisions"):
+        portrait_set([sc], [1], lyapunov_collisions=3)
+
+
+def test_polygons_and_gamma_portraits_have_their_coordinates():
+    ds = polygon_portraits(sides=(4, 6), aspect=1.5, n_orbits=3, n_collisions=40)
+    assert ds.table.values.tolist() == ["rectangle", "hexagon"] and ds.sides.values.tolist() == [4, 6]
+    rect = Scene.from_dict(json.loads(str(ds.scene.sel(table="rectangle").values)))
+    assert rect.elements[1].p0 == (1.5, 0.0)
+    check_portrait_values(ds)
+    with pytest.raises(ValueError, match="sides"):
+        polygon_portraits(sides=(2,))
+    g = sinai_gamma_portraits((0.0, 0.5), radius=0.3, n_orbits=3, n_collisions=30, lyapunov_collisions=20)
+    assert g.gamma.values.tolist() == [0.0, 0.5] and g.attrs["radius"] == 0.3
+    # gamma = 0: the spin only flips sign, so |w| stays that of the start on every point
+    w = np.abs(g.w_unit.sel(gamma=0.0).values)
+    assert np.allclose(np.nanmax(w, axis=1), np.nanmin(w, axis=1), atol=1e-12)
+
+
+def test_closed_hex_cell_is_the_wigner_seitz_cell_with_walls():
+    cell = closed_hex_cell(0.3)
+    assert len(cell.elements) == 7 and cell.lattice is None
+    inside = np.array([[0.49, 0.0], [-0.49, 0.0], [0.0, 0.57], [0.0, -0.57], [0.0, 0.31]])
+    outside = np.array([[0.51, 0.0], [0.0, 0.6], [0.0, 0.29], [0.45, 0.45]])
+    assert cell.contains(inside).all() and not cell.contains(outside).any()
+    v = np.array([[e.p0[0], e.p0[1]] for e in cell.elements[:6]])
+    assert np.allclose(np.hypot(*v.T), 1 / math.sqrt(3)) and np.isclose(v[:, 1].max(), 1 / math.sqrt(3))
+    for bad in (0.0, 0.5):
+        with pytest.raises(ValueError, match="radius"):
+            closed_hex_cell(bad)
+    # under a force the energy is conserved and bounds the height the particle reaches
+    o = simulate(closed_hex_cell(0.3, force=(0.0, -4.0)), (0.0, 0.45), (0.6, 0.8), 0.1, max_collisions=2000)
+    assert np.ptp(o.energy.values) < 1e-9 * abs(float(o.energy[0])) + 1e-12
+    assert (np.abs(o.x.values) <= 0.5 + 1e-9).all()
+
+
+def test_hex_force_energy_grows_in_the_periodic_gas_and_stays_bounded_in_the_closed_cell():
+    ds = hex_force_portraits(gammas=(1.0,), forces=(0.0, 1.0), n_orbits=6, n_collisions=1500,
+                             lyapunov_collisions=20)
+    assert dict(ds.sizes)["cell"] == 2 and ds.force.values.tolist() == [0.0, 1.0]
+    check_portrait_values(ds)
+    assert set(np.unique(ds.element.values[np.isfinite(ds.element.values)])) == {6.0}   # the disk only
+    kin = ds.kinetic_final.sel(gamma=1.0)
+    assert np.allclose(kin.sel(force=0.0).values, 0.5, atol=1e-12)          # no force: kinetic energy kept
+    closed, periodic = kin.sel(force=1.0, cell="closed").values, kin.sel(force=1.0, cell="periodic").values
+    height = 2 / math.sqrt(3)                                               # vertex to vertex
+    assert (closed <= 0.5 + 1.0 * height + 1e-9).all()                      # E bounds it
+    assert np.median(periodic) > 5 * np.median(closed)                      # the particle falls through the gas
+    with pytest.raises(ValueError, match="forces"):
+        hex_force_portraits(forces=(-1.0,))
+
+
+def test_islands_sweep_shares_agree_with_its_exponents_and_the_theory():
+    ds = sinai_islands_sweep(radii=(0.45,), gammas=(0.0, 0.6, 1.0), n_orbits=40, n_collisions=300,
+                             seed=2).isel(radius=0)
+    share, _, n = islands.regular_share(ds.ftle.values, ds.attrs["regular_threshold"])
+    assert np.allclose(ds.share_regular.values, share) and (ds.n_valid.values == n).all()
+    assert float(ds.share_regular.sel(gamma=0.0)) == 0.0 and float(ds.share_regular.sel(gamma=1.0)) > 0.1
+    assert float(ds.head_on_onset) == pytest.approx(islands.head_on_onset_gamma(0.45))
+    assert 0.0 < float(ds.onset_gamma) <= 0.6
+    assert float(ds.onset_gamma_low) <= float(ds.onset_gamma_high)
+    with pytest.raises(ValueError, match="gammas"):
+        sinai_islands_sweep(gammas=(0.5, 0.2), n_orbits=2)
+    with pytest.raises(ValueError, match="radii"):
+        sinai_islands_sweep(radii=(0.3, 0.3), n_orbits=2)
