@@ -16,6 +16,9 @@ Figure scripts read datasets and draw with these; they never simulate.
 - :func:`draw_class_boundary`, :func:`draw_return_points`, :func:`draw_deviation`,
   :func:`draw_two_disk_setup`: stability figures (linear class over a survival
   map, returns to a wall, growth of a perturbation, the two-disk set-up);
+- :func:`draw_layered_portrait`, :func:`draw_birkhoff`, :func:`draw_reduced_portrait`,
+  :func:`orbit_colors`: phase portraits with one colour per orbit and the chaotic sea apart,
+  the specular Birkhoff portrait, the reduced no-slip portrait in 3D;
 - :func:`save_figure`: PDF and PNG, byte-stable;
 - :func:`numbers_markdown`: the table of the paper's computed numbers.
 """
@@ -23,6 +26,7 @@ from .annotate import draw_angle, draw_ray, label_point
 from .grids import draw_stability_grid
 from .numbers import numbers_markdown
 from .orbits import draw_orbit, draw_spin, mark_ends, orbit_nodes, orbit_path
+from .phase import draw_birkhoff, draw_layered_portrait, draw_reduced_portrait, orbit_colors
 from .portraits import draw_portrait, portrait_points
 from .save import save_figure
 from .stability import draw_class_boundary, draw_deviation, draw_return_points, draw_two_disk_setup, return_points
@@ -35,3 +39,4 @@ __all__ = ["LAW_COLORS", "STYLE", "auto_window", "draw_orbit", "draw_portrait", 
            "orbit_path", "portrait_points", "save_figure", "scene_of", "style_context", "use_style"]
 __all__ += ["draw_angle", "draw_ray", "label_point", "sphere_path"]
 __all__ += ["draw_class_boundary", "draw_deviation", "draw_return_points", "draw_two_disk_setup", "return_points"]
+__all__ += ["draw_birkhoff", "draw_layered_portrait", "draw_reduced_portrait", "orbit_colors"]
