@@ -15,12 +15,12 @@ FIGURES = {
     "galton": ["fig02_galtonboard", "fig03_normal", "figS1_galton_trapping"],
     "orbits": ["fig01_specnoslip", "fig04_pentagons", "fig05_bouncingball", "fig06_newwedge",
                "fig08_noslipstablesinai", "fig16_3dbounce"],
-    # "portraits": [...],   Figures 10-13
+    "portraits": ["fig10_phaseportraits", "fig11_vppregpoly", "fig12_lorentzgamma", "fig13_VPPforce"],
     "stability": ["fig07_wedge", "fig09_2perunstablea", "fig14_2perunstable", "fig15_stabexp"],
 }
 
 # Subjects that compute numbers the paper states (rule numbers_<subject> in report.smk).
-NUMBER_SUBJECTS = ["galton", "orbits", "stability"]
+NUMBER_SUBJECTS = ["galton", "orbits", "stability", "portraits"]
 
 # Kernel variants each subject's simulations run, compiled by rule compile_kernels before the
 # simulation jobs fan out (numba's cache is not safe to fill from parallel processes, numba #4807).
@@ -34,6 +34,13 @@ KERNELS = {
     "stability": ["plain+force:no-slip:orbit", "plain:no-slip:orbit", "plain:no-slip:log",
                   "plain:no-slip:count", "plain+force:no-slip:log", "plain+force:no-slip:count"],
     "orbits": ["plain:specular:orbit", "plain:no-slip:orbit", "plain+force:no-slip:orbit"],
+    # portraits (lemon, polygons, closed hexagonal cell), first flights (final), Lyapunov runs (orbit);
+    # the Sinai torus and the force-free hexagonal gas are "disks", the hexagonal gas under a force "lattice+force"
+    "portraits": ["plain:specular:portrait", "plain:specular:final", "plain:specular:orbit",
+                  "plain:no-slip:portrait", "plain:no-slip:final", "plain:no-slip:orbit",
+                  "plain+force:no-slip:portrait", "plain+force:no-slip:final", "plain+force:no-slip:orbit",
+                  "disks:no-slip:portrait", "disks:no-slip:final", "disks:no-slip:orbit",
+                  "lattice+force:no-slip:final"],
 }
 
 

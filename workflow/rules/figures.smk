@@ -148,6 +148,70 @@ rule fig16_3dbounce:
 
 
 # ---------------------------------------------------------------- portraits (Figures 10-13)
+rule fig10_phaseportraits:
+    input:
+        portraits="results/portraits/phaseportraits.nc",
+    output:
+        pdf="figures/fig10_phaseportraits.pdf",
+        png=report("figures/fig10_phaseportraits.png", caption="../report/fig10_phaseportraits.rst",
+                   category="Phase portraits"),
+    log:
+        log_file("fig10_phaseportraits"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/fig10_phaseportraits.py"
+
+
+rule fig11_vppregpoly:
+    input:
+        portraits="results/portraits/polygons.nc",
+    output:
+        pdf="figures/fig11_vppregpoly.pdf",
+        png=report("figures/fig11_vppregpoly.png", caption="../report/fig11_vppregpoly.rst",
+                   category="Phase portraits"),
+    log:
+        log_file("fig11_vppregpoly"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/fig11_vppregpoly.py"
+
+
+rule fig12_lorentzgamma:
+    input:
+        portraits="results/portraits/sinai_gamma.nc",
+        islands="results/portraits/islands.nc",
+    output:
+        pdf="figures/fig12_lorentzgamma.pdf",
+        png=report("figures/fig12_lorentzgamma.png", caption="../report/fig12_lorentzgamma.rst",
+                   category="Phase portraits"),
+    log:
+        log_file("fig12_lorentzgamma"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/fig12_lorentzgamma.py"
+
+
+rule fig13_VPPforce:
+    input:
+        portraits="results/portraits/hex_force.nc",
+    output:
+        pdf="figures/fig13_VPPforce.pdf",
+        png=report("figures/fig13_VPPforce.png", caption="../report/fig13_VPPforce.rst",
+                   category="Phase portraits"),
+    log:
+        log_file("fig13_VPPforce"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/fig13_VPPforce.py"
+
 
 # ---------------------------------------------------------------- stability (Figures 7, 9, 14, 15)
 rule fig07_wedge:

@@ -56,6 +56,19 @@ rule numbers_orbits:
 
 
 # ---------------------------------------------------------------- portraits
+rule numbers_portraits:
+    input:
+        islands="results/portraits/islands.nc",
+    output:
+        numbers="results/numbers/portraits.json",
+    log:
+        log_file("numbers_portraits"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/numbers_portraits.py"
+
 
 # ---------------------------------------------------------------- stability
 rule numbers_stability:

@@ -218,6 +218,104 @@ rule orbits_sphere:
 
 
 # ---------------------------------------------------------------- portraits (Figures 10-13)
+rule portraits_phaseportraits:
+    input:
+        kernels=KERNELS_DONE,
+    output:
+        portraits="results/portraits/phaseportraits.nc",
+    params:
+        run=config["portraits"]["phaseportraits"],
+        threshold=config["portraits"]["regular_threshold"],
+        scheduler=dask_scheduler(),
+    log:
+        log_file("portraits_phaseportraits"),
+    benchmark:
+        benchmark_file("portraits_phaseportraits")
+    threads: ENSEMBLE_THREADS
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/portraits_phaseportraits.py"
+
+
+rule portraits_polygons:
+    input:
+        kernels=KERNELS_DONE,
+    output:
+        portraits="results/portraits/polygons.nc",
+    params:
+        run=config["portraits"]["polygons"],
+        scheduler=dask_scheduler(),
+    log:
+        log_file("portraits_polygons"),
+    benchmark:
+        benchmark_file("portraits_polygons")
+    threads: ENSEMBLE_THREADS
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/portraits_polygons.py"
+
+
+rule portraits_sinai_gamma:
+    input:
+        kernels=KERNELS_DONE,
+    output:
+        portraits="results/portraits/sinai_gamma.nc",
+    params:
+        run=config["portraits"]["sinai_gamma"],
+        threshold=config["portraits"]["regular_threshold"],
+        scheduler=dask_scheduler(),
+    log:
+        log_file("portraits_sinai_gamma"),
+    benchmark:
+        benchmark_file("portraits_sinai_gamma")
+    threads: ENSEMBLE_THREADS
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/portraits_sinai_gamma.py"
+
+
+rule portraits_islands:
+    # Lyapunov exponents of orbit after orbit (one thread: the Benettin loop holds the GIL)
+    input:
+        kernels=KERNELS_DONE,
+    output:
+        islands="results/portraits/islands.nc",
+    params:
+        run=config["portraits"]["islands"],
+        threshold=config["portraits"]["regular_threshold"],
+    log:
+        log_file("portraits_islands"),
+    benchmark:
+        benchmark_file("portraits_islands")
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/portraits_islands.py"
+
+
+rule portraits_hex_force:
+    input:
+        kernels=KERNELS_DONE,
+    output:
+        portraits="results/portraits/hex_force.nc",
+    params:
+        run=config["portraits"]["hex_force"],
+        threshold=config["portraits"]["regular_threshold"],
+        scheduler=dask_scheduler(),
+    log:
+        log_file("portraits_hex_force"),
+    benchmark:
+        benchmark_file("portraits_hex_force")
+    threads: ENSEMBLE_THREADS
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/portraits_hex_force.py"
+
 
 # ---------------------------------------------------------------- stability (Figures 7, 9, 14, 15)
 rule stability_wedge_orbits:

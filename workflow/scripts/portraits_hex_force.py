@@ -1,0 +1,18 @@
+"""Dataset of Figure 13: velocity portraits of a disk in a closed hexagonal cell, two gammas, three forces.
+
+Also holds the kinetic energy after the run in the closed cell and in the periodic Lorentz gas from the
+same starts, the evidence for the choice of table (config/README.md).
+"""
+import sys
+
+sys.stderr = open(snakemake.log[0], "w", buffering=1)
+
+from noslipsim import write_dataset  # noqa: E402
+from noslipsim.experiments import hex_force_portraits  # noqa: E402
+
+run, threshold = snakemake.params.run, snakemake.params.threshold
+ds = hex_force_portraits(**run, threshold=threshold, scheduler=snakemake.params.scheduler,
+                         num_workers=snakemake.threads, progress=True)
+write_dataset(ds, snakemake.output.portraits,
+              config={"portraits": {"hex_force": run, "regular_threshold": threshold}},
+              history=f"snakemake rule {snakemake.rule} (workflow/scripts/portraits_hex_force.py)")
