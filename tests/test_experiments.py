@@ -41,6 +41,11 @@ def test_arrivals_are_consistent():
     arrived = ds.arrived.values.astype(bool)
     assert np.isfinite(ds.t_terminal.values[arrived]).all() and np.isnan(ds.t_terminal.values[~arrived]).all()
     assert (ds.t_terminal.values[arrived] <= SMALL["max_time"]).all()
+    # arrived particles end at the terminal depth, where x_end is x_terminal
+    np.testing.assert_array_equal(ds.x_end.values[arrived], ds.x_terminal.values[arrived])
+    depth = SMALL["rows"] * 2.0 * math.sqrt(3) / 2
+    np.testing.assert_allclose(ds.y_end.values[arrived], -depth, atol=1e-9)
+    assert (ds.y_end.values[~arrived] > -depth).all()
     np.testing.assert_allclose(ds.share_not_arrived, 1 - arrived.mean(axis=1))
 
 

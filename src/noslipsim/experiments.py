@@ -99,7 +99,9 @@ def galton_distribution(n_particles=100_000, *, laws=("specular", "no-slip"), ga
         repeats when several gammas are run), with the coordinate ``gamma``
         along ``law`` (NaN for specular): ``x_terminal`` (displacement from the
         start, NaN if not arrived), ``t_terminal`` (NaN if not arrived),
-        ``arrived``, ``n_collisions``, ``stop_reason``; per case
+        ``arrived``, ``x_end, y_end`` (displacement from the start where the
+        orbit ended: at the terminal depth, or at ``max_time`` for particles
+        not arrived), ``n_collisions``, ``stop_reason``; per case
         ``share_not_arrived``.  The geometry, limits and seed are attributes.
         Variables are described in docs/datasets.md.
     """
@@ -124,6 +126,12 @@ def galton_distribution(n_particles=100_000, *, laws=("specular", "no-slip"), ga
                            {"long_name": "time of arrival at the terminal depth", "units": "1"}),
             "arrived": ("particle", arrived.astype(np.int8),
                         {"long_name": "1 if the particle reached the terminal depth by max_time", "units": "1"}),
+            "x_end": ("particle", ds.x_final.values - start[0],
+                      {"long_name": "horizontal displacement where the orbit ended (terminal depth or max_time)",
+                       "units": "1"}),
+            "y_end": ("particle", ds.y_final.values - start[1],
+                      {"long_name": "vertical displacement where the orbit ended (terminal depth or max_time)",
+                       "units": "1"}),
             "n_collisions": ("particle", ds.n_collisions.values),
             "stop_reason": ("particle", ds.stop_reason.values, ds.stop_reason.attrs),
         }))

@@ -63,10 +63,6 @@ def number_fragments():
     return [f"results/numbers/{subject}.json" for subject in NUMBER_SUBJECTS]
 
 
-def kernel_entries():
-    return sorted({entry for entries in KERNELS.values() for entry in entries})
-
-
 def core_digest():
     """Hash of the compiled core's sources: the kernels are recompiled when it changes."""
     from noslipsim._numba_cache import source_digest
@@ -103,4 +99,14 @@ def benchmark_file(name):
     return f"logs/benchmarks/{name}.tsv"
 
 
-KERNELS_DONE = "results/kernels.json"
+def kernel_entries(wildcards):
+    """The KERNELS entries of the subject of a compile_kernels job."""
+    return KERNELS[wildcards.subject]
+
+
+def kernels_done(subject):
+    """The stamp of one subject's compiled kernels, made by compile_kernels; every simulation
+    rule of the subject takes it as an input, so that its jobs start once the kernels are cached."""
+    if subject not in KERNELS:
+        raise ValueError(f"kernels_done: no KERNELS entry for subject {subject!r} (common.smk)")
+    return f"results/kernels/{subject}.json"

@@ -28,7 +28,7 @@ rule fig03_normal:
         pdf="figures/fig03_normal.pdf",
         png=report("figures/fig03_normal.png", caption="../report/fig03_normal.rst", category="Galton board"),
     params:
-        bins=config["galton"]["distribution"]["bins"],
+        histogram=config["galton"]["histogram"],
     log:
         log_file("fig03_normal"),
     threads: 1

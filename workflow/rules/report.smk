@@ -24,6 +24,7 @@ rule numbers_galton:
     input:
         distribution="results/galton/distribution.nc",
         arrivals="results/galton/arrivals.nc",
+        sweep="results/galton/radius_sweep.nc",
     output:
         numbers="results/numbers/galton.json",
     log:

@@ -5,15 +5,18 @@
 
 
 rule compile_kernels:
-    # Compile (or load from numba's cache) every kernel variant the simulations need, once,
-    # before the simulation jobs fan out.
+    # Compile (or load from numba's cache) the kernel variants one subject's simulations need
+    # (KERNELS in common.smk) before its simulation jobs fan out.  Compile jobs of different
+    # subjects take turns (a file lock): numba's cache is not safe to fill from parallel processes.
     output:
-        KERNELS_DONE,
+        "results/kernels/{subject}.json",
     params:
-        entries=kernel_entries(),
+        entries=kernel_entries,
         core=core_digest(),
+    wildcard_constraints:
+        subject="|".join(KERNELS),
     log:
-        log_file("compile_kernels"),
+        log_file("compile_kernels_{subject}"),
     threads: 1
     conda:
         SOFTWARE
@@ -24,7 +27,7 @@ rule compile_kernels:
 # ---------------------------------------------------------------- galton (Figures 2, 3, S1)
 rule galton_orbits:
     input:
-        kernels=KERNELS_DONE,
+        kernels=kernels_done("galton"),
     output:
         orbits="results/galton/orbits.nc",
     params:
@@ -43,7 +46,7 @@ rule galton_orbits:
 
 rule galton_distribution:
     input:
-        kernels=KERNELS_DONE,
+        kernels=kernels_done("galton"),
     output:
         distribution="results/galton/distribution.nc",
     params:
@@ -63,7 +66,7 @@ rule galton_distribution:
 
 rule galton_arrivals:
     input:
-        kernels=KERNELS_DONE,
+        kernels=kernels_done("galton"),
     output:
         arrivals="results/galton/arrivals.nc",
     params:
@@ -83,7 +86,7 @@ rule galton_arrivals:
 
 rule galton_radius_sweep:
     input:
-        kernels=KERNELS_DONE,
+        kernels=kernels_done("galton"),
     output:
         sweep="results/galton/radius_sweep.nc",
     params:
@@ -105,7 +108,7 @@ rule galton_radius_sweep:
 rule orbits_specnoslip:
     # Figure 1
     input:
-        kernels=ancient(KERNELS_DONE),
+        kernels=kernels_done("orbits"),
     output:
         specnoslip="results/orbits/specnoslip.nc",
     params:
@@ -124,7 +127,7 @@ rule orbits_specnoslip:
 rule orbits_pentagons:
     # Figure 4
     input:
-        kernels=ancient(KERNELS_DONE),
+        kernels=kernels_done("orbits"),
     output:
         pentagons="results/orbits/pentagons.nc",
     params:
@@ -143,7 +146,7 @@ rule orbits_pentagons:
 rule orbits_bounce:
     # Figure 5
     input:
-        kernels=ancient(KERNELS_DONE),
+        kernels=kernels_done("orbits"),
     output:
         bounce="results/orbits/bounce.nc",
     params:
@@ -162,7 +165,7 @@ rule orbits_bounce:
 rule orbits_newwedge:
     # Figure 6
     input:
-        kernels=ancient(KERNELS_DONE),
+        kernels=kernels_done("orbits"),
     output:
         newwedge="results/orbits/newwedge.nc",
     params:
@@ -181,7 +184,7 @@ rule orbits_newwedge:
 rule orbits_twodisks:
     # Figure 8
     input:
-        kernels=ancient(KERNELS_DONE),
+        kernels=kernels_done("orbits"),
     output:
         twodisks="results/orbits/twodisks.nc",
     params:
@@ -200,7 +203,7 @@ rule orbits_twodisks:
 rule orbits_sphere:
     # Figure 16
     input:
-        kernels=ancient(KERNELS_DONE),
+        kernels=kernels_done("orbits"),
     output:
         sphere="results/orbits/sphere.nc",
     params:
@@ -220,7 +223,7 @@ rule orbits_sphere:
 # ---------------------------------------------------------------- portraits (Figures 10-13)
 rule portraits_phaseportraits:
     input:
-        kernels=KERNELS_DONE,
+        kernels=kernels_done("portraits"),
     output:
         portraits="results/portraits/phaseportraits.nc",
     params:
@@ -240,7 +243,7 @@ rule portraits_phaseportraits:
 
 rule portraits_polygons:
     input:
-        kernels=KERNELS_DONE,
+        kernels=kernels_done("portraits"),
     output:
         portraits="results/portraits/polygons.nc",
     params:
@@ -259,7 +262,7 @@ rule portraits_polygons:
 
 rule portraits_sinai_gamma:
     input:
-        kernels=KERNELS_DONE,
+        kernels=kernels_done("portraits"),
     output:
         portraits="results/portraits/sinai_gamma.nc",
     params:
@@ -280,7 +283,7 @@ rule portraits_sinai_gamma:
 rule portraits_islands:
     # Lyapunov exponents of orbit after orbit (one thread: the Benettin loop holds the GIL)
     input:
-        kernels=KERNELS_DONE,
+        kernels=kernels_done("portraits"),
     output:
         islands="results/portraits/islands.nc",
     params:
@@ -299,7 +302,7 @@ rule portraits_islands:
 
 rule portraits_hex_force:
     input:
-        kernels=KERNELS_DONE,
+        kernels=kernels_done("portraits"),
     output:
         portraits="results/portraits/hex_force.nc",
     params:
@@ -320,7 +323,7 @@ rule portraits_hex_force:
 # ---------------------------------------------------------------- stability (Figures 7, 9, 14, 15)
 rule stability_wedge_orbits:
     input:
-        kernels=KERNELS_DONE,
+        kernels=kernels_done("stability"),
     output:
         orbits="results/stability/wedge_orbits.nc",
     params:
@@ -339,7 +342,7 @@ rule stability_wedge_orbits:
 
 rule stability_wedge_perturbed:
     input:
-        kernels=KERNELS_DONE,
+        kernels=kernels_done("stability"),
     output:
         orbits="results/stability/wedge_perturbed.nc",
     params:
@@ -359,7 +362,7 @@ rule stability_wedge_perturbed:
 
 rule stability_launch_orbits:
     input:
-        kernels=KERNELS_DONE,
+        kernels=kernels_done("stability"),
     output:
         orbits="results/stability/launch_orbits.nc",
     params:
@@ -379,7 +382,7 @@ rule stability_launch_orbits:
 
 rule stability_launch_scan:
     input:
-        kernels=KERNELS_DONE,
+        kernels=kernels_done("stability"),
     output:
         scan="results/stability/launch_scan.nc",
     params:
@@ -400,7 +403,7 @@ rule stability_grid:
     # one rule for the three grids of Figure 15 (noforce, force, theta); each depends on its own
     # config section and the shared one only
     input:
-        kernels=KERNELS_DONE,
+        kernels=kernels_done("stability"),
     output:
         grid="results/stability/grid_{kind}.nc",
     wildcard_constraints:

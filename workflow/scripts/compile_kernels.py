@@ -1,9 +1,11 @@
 """Compile (or load from numba's cache) the kernel variants the simulations need, one after another.
 
-Each entry "table:law:record" runs a tiny orbit on a representative scene of that kind, which
-compiles the variant once for every scene of the kind (rules/common.smk, KERNELS).
+Each entry "table:law:record" of the subject (KERNELS in rules/common.smk) runs a tiny orbit on a
+representative scene of that kind, which compiles the variant once for every scene of the kind.
 """
+import fcntl
 import json
+import os
 import sys
 import time
 
@@ -26,6 +28,11 @@ TABLES = {
     "disks": lambda law: (tables.sinai_torus(0.25, law=law), (0.4, 0.1)),
 }
 RECORDS = ("final", "count", "portrait", "log", "orbit")
+
+# One subject's compile job at a time (numba's cache is not safe to fill from parallel processes,
+# numba #4807); the lock is released when the job ends.
+lock = open(os.path.join(os.path.dirname(snakemake.output[0]), ".compile.lock"), "w")
+fcntl.flock(lock, fcntl.LOCK_EX)
 
 done = []
 for entry in snakemake.params.entries:

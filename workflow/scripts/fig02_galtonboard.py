@@ -13,6 +13,7 @@ import xarray as xr  # noqa: E402
 from noslipsim import plot  # noqa: E402
 
 MARGIN = 2.0  # board shown around the orbits (lengths)
+ZOOM_BELOW = 4.0  # an orbit smaller than this (lengths) gets a zoomed inset
 
 ds = xr.load_dataset(snakemake.input.orbits)
 paths = [plot.orbit_path(ds.isel(orbit=i)) for i in range(ds.sizes["orbit"])]
@@ -21,13 +22,24 @@ x1 = max(x.max() for x, _ in paths) + MARGIN
 bottom = ds.attrs["start"][1] - ds.attrs["terminal_depth"]
 window = (x0, x1, bottom - MARGIN, ds.attrs["start"][1] + MARGIN)
 
+n = ds.sizes["orbit"]
+aspect = (window[3] - window[2]) / (window[1] - window[0])
 plot.use_style()
-fig, axes = plt.subplots(1, ds.sizes["orbit"], figsize=(6.5, 3.4), sharey=True)
-for ax, i in zip(np.atleast_1d(axes), range(ds.sizes["orbit"])):
+fig, axes = plt.subplots(1, n, figsize=(6.5, 6.5 / n * aspect + 0.9), sharey=True)
+for ax, i in zip(np.atleast_1d(axes), range(n)):
     orbit = ds.isel(orbit=i)
-    plot.draw_table(ax, orbit, window)
-    ax.axhline(bottom, color="0.4", linestyle="--", linewidth=0.6)
+    plot.draw_table(ax, orbit, window, wall_color="0.55", linewidth=0.3)
+    ax.axhline(bottom, color="k", linestyle="--", linewidth=0.6)
     plot.draw_orbit(ax, orbit, linewidth=0.5)
+    x, y = paths[i]
+    if np.ptp(x) < ZOOM_BELOW and np.ptp(y) < ZOOM_BELOW:  # a held orbit: zoom on it
+        inset = ax.inset_axes([0.45, 0.05, 0.5, 0.5])
+        cx, cy = (x.min() + x.max()) / 2, (y.min() + y.max()) / 2
+        half = 0.6 * max(np.ptp(x), np.ptp(y)) + 0.5
+        plot.draw_table(inset, orbit, (cx - half, cx + half, cy - half, cy + half), wall_color="0.55", linewidth=0.3)
+        plot.draw_orbit(inset, orbit, linewidth=0.3)
+        inset.set(xticks=[], yticks=[])
+        ax.indicate_inset_zoom(inset, edgecolor="k", linewidth=0.5)
     g = float(orbit.gamma)
     name = "specular, $\\gamma = 0$" if str(orbit.law.values) == "specular" else f"no-slip, $\\gamma = {g:.3g}$"
     arrived = str(orbit.stop_reason.values) == "stop_below"

@@ -12,10 +12,18 @@ import xarray as xr  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
 
+SPAN = 4.5  # half-width of the histogram, in standard deviations
+
 ds = xr.load_dataset(snakemake.input.distribution)
 x = ds.x_terminal
-edges = np.histogram_bin_edges(x.values[np.isfinite(x.values)], bins=snakemake.params.bins)
-width = edges[1] - edges[0]
+# Particles cross the terminal depth in the gaps between the pegs of the terminal row, so the
+# displacements cluster one spacing apart: one bin per bin_gaps gaps, centred on the gaps (other
+# bins alias), over +-SPAN standard deviations of the wider law (the few beyond are not drawn).
+width = snakemake.params.histogram["bin_gaps"] * ds.attrs["spacing"]
+xs_all = x.values[np.isfinite(x.values)]
+phase = np.angle(np.exp(2j * np.pi * xs_all / ds.attrs["spacing"]).mean()) / (2 * np.pi) * ds.attrs["spacing"]
+reach = np.ceil(SPAN * float(x.std("particle").max()) / width) * width
+edges = phase - width / 2 + np.arange(-reach, reach + width, width)
 grid = np.linspace(edges[0], edges[-1], 400)
 
 plot.use_style()
@@ -30,10 +38,10 @@ for ax, i in zip(np.atleast_1d(axes), range(ds.sizes["law"])):
     ax.plot(grid, gauss, color="k", linewidth=0.8, label=f"normal, $\\sigma$ = {std:.2f}")
     name = "specular" if law == "specular" else f"no-slip, $\\gamma$ = {float(case.gamma):.3g}"
     ax.set_title(name)
-    ax.text(0.02, 0.97, f"{case.sizes['particle']:,} particles\nnot arrived by t = {ds.attrs['max_time']:g}: "
-            f"{float(case.share_not_arrived):.1%}\n$\\sigma$ = {std:.2f}", transform=ax.transAxes, va="top",
-            fontsize=7)
+    ax.text(0.02, 0.97, f"{case.sizes['particle']:,} particles\nnot arrived by\nT = {ds.attrs['max_time']:g}: "
+            f"{float(case.share_not_arrived):.2%}", transform=ax.transAxes, va="top", fontsize=7)
     ax.set_xlabel("terminal horizontal displacement")
     ax.legend(loc="upper right", fontsize=7)
-axes[0].set_ylabel(f"particles per bin (width {width:.2g})")
+gaps = snakemake.params.histogram["bin_gaps"]
+axes[0].set_ylabel(f"particles per bin ({gaps} gap{'s' * (gaps > 1)})")
 plot.save_figure(fig, snakemake.output.pdf)  # writes the .pdf and the .png beside it

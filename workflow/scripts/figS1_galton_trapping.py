@@ -18,6 +18,7 @@ sweep = xr.load_dataset(snakemake.input.sweep)
 curves = arrival_curve(arrivals)
 long_run = arrival_curve(sweep)
 T = arrivals.attrs["termination_time"]
+at = arrival_curve(sweep, times=[T, sweep.attrs["max_time"]])  # not arrived by T and by the run's end
 GAMMA_STYLES = ["-", "--", ":", "-."]
 
 plot.use_style()
@@ -30,16 +31,17 @@ for i in range(curves.sizes["law"]):
     keep = c.share_not_arrived > 0  # log axes
     left.plot(c.time[keep], c.share_not_arrived[keep], style, color=plot.law_color(law), label=label)
 left.axvline(T, color="0.5", linewidth=0.6)
-left.text(T, 1.0, " T", color="0.4", va="top", fontsize=7)
+left.text(T, 0.02, " T", color="0.4", va="bottom", fontsize=7, transform=left.get_xaxis_transform())
 left.set(xscale="log", yscale="log", xlabel="time", ylabel="share not arrived",
          title=f"{arrivals.attrs['n_particles']:,} particles per case")
 left.legend(fontsize=7, loc="lower left")
 
 for law in ("specular", "no-slip"):
-    sel = long_run.sel(law=law)
-    right.errorbar(sel.radius, sel.share_not_arrived_final, yerr=sel.share_not_arrived_stderr.isel(time=-1),
-                   marker="o", markersize=3, capsize=2, color=plot.law_color(law),
-                   label=f"{law}, not arrived by {sweep.attrs['time_factor']:g} T")
+    sel = at.sel(law=law)
+    for k, (fill, when) in enumerate((("none", "T"), (None, f"{sweep.attrs['time_factor']:g} T"))):
+        right.errorbar(sel.radius, sel.share_not_arrived.isel(time=k), yerr=sel.share_not_arrived_stderr.isel(time=k),
+                       marker="o", markersize=3, capsize=2, color=plot.law_color(law), markerfacecolor=fill,
+                       linestyle="--" if k == 0 else "-", label=f"{law}, not arrived by {when}")
 sel = long_run.sel(law="no-slip")
 ok = np.isfinite(sel.trapped_share)
 right.plot(sel.radius[ok], sel.trapped_share[ok], "x", color="k", markersize=4, label="no-slip, trapped (extrapolated)")

@@ -11,6 +11,7 @@ from noslipsim.analysis import arrival_curve  # noqa: E402
 
 dist = xr.load_dataset(snakemake.input.distribution)
 long_run = xr.load_dataset(snakemake.input.arrivals)
+sweep = xr.load_dataset(snakemake.input.sweep)
 T, n = dist.attrs["max_time"], dist.attrs["n_particles"]
 gamma = float(dist.gamma.sel(law="no-slip"))
 
@@ -55,7 +56,21 @@ if np.isfinite(float(trapped.trapped_share)):
     numbers["trapped_share_noslip"] = dict(
         description=f"no-slip (γ = {gamma:.3g}) share that never arrives, extrapolated from the arrival tail",
         value=float(trapped.trapped_share), stderr=float(trapped.trapped_share_stderr), format=".2%",
-        note="noslipsim.analysis.arrival_curve")
+        note=f"noslipsim.analysis.arrival_curve; arrivals in the last two half-decades of the run: "
+             f"{int(trapped.arrivals_early)}, {int(trapped.arrivals_late)}")
+
+noslip = dist.sel(law="no-slip")
+left = noslip.arrived.values == 0
+near = np.hypot(noslip.x_end.values, noslip.y_end.values) < dist.attrs["spacing"] / 2
+numbers["held_near_drop_point"] = dict(
+    description="no-slip particles not arrived by T that end within half a spacing of the drop point",
+    value=float(near[left].mean()), format=".1%", note="held in the gap between the two top pegs")
+at_end = arrival_curve(sweep, times=[T, sweep.attrs["max_time"]]).sel(law="no-slip").isel(time=-1)
+numbers["trapped_against_radius"] = dict(
+    description=f"no-slip share not arrived at {sweep.attrs['time_factor']:g} T against peg radius "
+                f"(spacing {sweep.attrs['spacing']:g})",
+    value=", ".join(f"{r:g}: {p:.0%}" for r, p in zip(at_end.radius.values, at_end.share_not_arrived.values)),
+    paper="no geometry given", note=f"{sweep.attrs['n_particles']:,} particles per radius")
 
 with open(snakemake.output.numbers, "w") as fh:
     json.dump(numbers, fh, indent=1, ensure_ascii=False)
