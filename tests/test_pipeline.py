@@ -1,0 +1,360 @@
+"""The figure pipeline end to end: the reduced run (.test) in a temporary copy of the repository.
+
+Every dataset opens with xarray and carries its provenance and sane values; every figure exists as
+PDF and PNG and is byte-identical when redrawn; changing one config value reruns only what depends
+on it; `snakemake --lint` is clean; the report builds.  Checks are generic over whatever the
+workflow produces, so a new dataset or figure is covered without editing this file; a dataset
+with properties of its own registers a check in DATASET_CHECKS.
+"""
+import hashlib
+import json
+import math
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from noslipsim.plot import numbers_markdown
+
+ROOT = Path(__file__).resolve().parents[1]
+#: What the workflow needs from the repository (the package itself is installed).
+WORKFLOW_FILES = ["Snakefile", "workflow", "config", ".test/config"]
+GLOBAL_ATTRS = ("title", "source", "history", "references", "config")
+#: Rounding slack for unit vectors and shares.
+TOL = 1e-9
+
+def snakemake(repo, *args, check=True):
+    """Run snakemake on the reduced config in ``repo``; returns the completed process."""
+    cmd = [sys.executable, "-m", "snakemake", "--directory", ".test", *args]
+    proc = subprocess.run(cmd, cwd=repo, capture_output=True, text=True)
+    if check and proc.returncode != 0:
+        raise AssertionError(f"{' '.join(cmd[2:])} failed ({proc.returncode}):\n{proc.stdout[-4000:]}\n"
+                             f"{proc.stderr[-6000:]}")
+    return proc
+
+
+@pytest.fixture(scope="module")
+def repo(tmp_path_factory):
+    """A copy of the workflow with the reduced run built in it."""
+    repo = tmp_path_factory.mktemp("pipeline")
+    for name in WORKFLOW_FILES:
+        src, dst = ROOT / name, repo / name
+        if src.is_dir():
+            shutil.copytree(src, dst)
+        else:
+            dst.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(src, dst)
+    snakemake(repo, "--cores", "2")
+    return repo
+
+
+def summary(repo):
+    """``{output file: rule}`` of every job of the workflow (snakemake --summary)."""
+    lines = snakemake(repo, "--summary").stdout.splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith("output_file"))
+    out = {}
+    for line in lines[start + 1:]:
+        cols = line.split("\t")
+        if len(cols) >= 3:
+            out[cols[0]] = cols[2]
+    return out
+
+
+def digests(folder):
+    return {p.name: hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted(folder.iterdir()) if p.is_file()}
+
+
+# ---------------------------------------------------------------- dataset checks
+def check_galton_distribution(ds):
+    assert set(ds.x_terminal.dims) == {"law", "particle"} and set(ds.law.values) == {"specular", "no-slip"}
+    arrived = ds.arrived.values.astype(bool)
+    assert np.isfinite(ds.x_terminal.values[arrived]).all() and np.isnan(ds.x_terminal.values[~arrived]).all()
+    assert (ds.t_terminal.values[arrived] <= ds.attrs["max_time"]).all()
+    assert np.isnan(ds.gamma.sel(law="specular")).all() and np.isfinite(ds.gamma.sel(law="no-slip")).all()
+
+
+def check_galton_orbits(ds):
+    assert ds.sizes["orbit"] >= 1 and (ds.n_collisions > 0).all()
+    assert (ds.stop_reason.values.astype(str) != "").all()
+    for i in range(ds.sizes["orbit"]):
+        n = int(ds.n_collisions[i])
+        assert np.isfinite(ds.x.values[i, :n]).all() and np.isnan(ds.x.values[i, n:]).all()
+    # orbits end at the terminal depth or above it
+    assert (ds.y_final >= ds.attrs["stop_below"] - TOL).all()
+
+
+def check_galton_sweep(ds):
+    assert "radius" in ds.dims and (np.diff(ds.radius.values) > 0).all()
+    assert (2 * ds.radius < ds.attrs["spacing"]).all()
+
+
+def _row(ds, role):
+    return ds.isel(orbit=list(ds.role.values).index(role))
+
+
+def check_orbits_specnoslip(ds):
+    # the caption's claims: specular leaves the scatterer nearly vertically, no-slip heads to the upper left corner
+    spec, noslip = _row(ds, "specular"), _row(ds, "no-slip")
+    assert float(spec.exit_from_vertical) < 10.0 and float(noslip.exit_to_corner) < 10.0
+    k = int(spec.scatterer_collision)
+    assert k == int(noslip.scatterer_collision) >= 0
+    np.testing.assert_array_equal(spec.x.values[:k + 1], noslip.x.values[:k + 1])   # identical until the disk
+    assert (spec.spin.values[np.isfinite(spec.spin.values)] == float(spec.spin_start)).all()
+
+
+def check_orbits_pentagons(ds):
+    assert str(ds.periodic_kind.values) == "elliptic"
+    assert float(ds.periodic_residual) <= ds.attrs["tol"] and int(ds.attrs["period"]) == 14
+    assert 0.0 < float(ds.corridor_width) < 0.2                     # the perturbed orbit stays in a corridor
+    assert int(_row(ds, "no-slip periodic").n_collisions) == 14
+
+
+def check_orbits_bounce(ds):
+    from noslipsim.theory import half_plane_drift
+
+    g, gamma = ds.attrs["gravity"], ds.attrs["gamma"]
+    u = np.sqrt(2 * g * ds.y_start.values)                          # each orbit starts at a flight's apex
+    want = half_plane_drift(ds.vx_start.values, ds.spin_start.values, u, gamma, g)
+    np.testing.assert_allclose(ds.drift.values, want, atol=1e-10)
+    assert (ds.drift_spread < 1e-10).all()
+    assert (np.abs(ds.drift.values) < 1e-10).tolist() == list(ds.spin_ratio.values == 1.0)
+
+
+def check_orbits_newwedge(ds):
+    np.testing.assert_allclose(ds.x.values[:, 2:4], ds.x.values[:, 0:2], atol=1e-10)   # 2-periodic
+    np.testing.assert_allclose(ds.x.values[:, 1], ds.q0_x.values, atol=1e-10)
+
+
+def check_orbits_twodisks(ds):
+    assert str(ds.kind.values) == "elliptic"
+    assert float(ds.eigen_sum) == pytest.approx(float(ds.eigen_sum_theory), abs=1e-8)
+    assert int(_row(ds, "no-slip").box_collisions) == 0 and int(_row(ds, "specular").box_collisions) > 0
+
+
+def check_orbits_sphere(ds):
+    np.testing.assert_allclose(ds.drift.values, ds.drift_theory.values, atol=1e-10)
+    np.testing.assert_allclose(ds.along_e2.values[2:], ds.along_e2.values[:-2], atol=1e-10)
+    assert float(np.hypot(*ds.drift_theory.values[:2])) > 0
+
+
+def check_stability_wedge_orbits(ds):
+    assert (ds.residual < 1e-10).all() and (ds.minimal_period == ds.period).all()
+    reversing = np.char.startswith(ds.case.values.astype(str), "path-reversing")
+    assert (ds.path_reversing.values[reversing] == 1).all() and (ds.path_reversing.values[~reversing] == 0).all()
+    assert set(ds.linear_kind.values.astype(str)) <= {"elliptic", "hyperbolic", "parabolic"}
+
+
+def check_stability_perturbed(ds):
+    n = ds.sizes["orbit"] // 2
+    assert list(ds.role.values.astype(str)) == ["periodic"] * n + ["perturbed"] * n
+    assert (ds.n_collisions.values[:n] == 3).all() and (ds.n_collisions.values[n:] >= 1).all()
+    assert np.nanmax(ds.deviation.values[:n]) < 1e-9                  # the periodic orbits close
+    assert (ds.lambda_max >= 1 - 1e-9).all() and np.isfinite(ds.eigen_sum).all()
+
+
+def check_stability_launch_scan(ds):
+    assert np.isfinite(ds.eigen_sum).all() and set(ds.dims) == {"phi", "theta"}
+    assert np.isfinite(ds.theta_transition).all()
+    np.testing.assert_allclose(ds.theta_transition, ds.theta_parallel, atol=1e-9)
+
+
+def check_stability_grid(ds):
+    assert ds.n_collisions.dims[0] == "radius" and ((ds.radius > 0) & (ds.radius < 1)).all()
+    n = ds.n_collisions.values
+    assert ((n >= 0) & (n <= ds.attrs["max_collisions"])).all()
+    assert set(np.unique(ds.survived.values)) <= {0, 1}
+    assert set(ds.linear_kind.values.astype(str).ravel()) <= {"elliptic", "hyperbolic", "parabolic"}
+    assert np.isfinite(ds.eigen_sum).all() and ((ds.radius_threshold > 0) & (ds.radius_threshold < 1)).all()
+    assert 0 <= ds.attrs["agreement_share"] <= 1
+
+
+def check_portraits(ds):
+    """A portrait_set dataset (case, orbit, point): points on the boundary, flags and exponents per orbit."""
+    assert ds.vt_unit.dims[-2:] == ("orbit", "point") and ds.boundary_length.dims == ds.vt_unit.dims[:-2]
+    s, L = ds.s_boundary.values, ds.boundary_length.values[..., None, None]
+    known = np.isfinite(s)
+    assert known.any() and ((s >= -TOL) & (s <= L + TOL))[known].all()
+    assert (np.isfinite(ds.vt_unit.values) == known).all()
+    assert (known.sum(axis=-1) == ds.n_points.values).all()
+    if "regular" in ds:
+        assert set(np.unique(ds.regular.values)) <= {0, 1}
+        assert np.isfinite(ds.ftle.values).mean() > 0.9      # NaN only for the rare corner collision
+        assert (ds.regular.values == (ds.ftle.values < ds.attrs["regular_threshold"])).all()
+    if "sin_angle" in ds:
+        p = ds.sin_angle.values
+        assert (np.abs(p[np.isfinite(p)]) <= 1 + TOL).all()
+
+
+def check_portraits_sinai_gamma(ds):
+    check_portraits(ds)
+    if 0.0 in ds.gamma.values:                              # gamma = 0 keeps |w| on every collision
+        w = np.abs(ds.w_unit.sel(gamma=0.0).values)
+        np.testing.assert_allclose(np.nanmax(w, axis=1), np.nanmin(w, axis=1), atol=1e-12)
+
+
+def check_portraits_hex_force(ds):
+    check_portraits(ds)
+    assert set(np.unique(ds.element.values[np.isfinite(ds.element.values)])) == {6.0}   # the disk only
+    assert ds.cell.values.tolist() == ["closed", "periodic"]
+    bound = 0.5 + ds.force * 2 / np.sqrt(3)                # kinetic energy in the closed cell, from E
+    assert (ds.kinetic_final.sel(cell="closed") <= bound + TOL).all()
+
+
+def check_portraits_islands(ds):
+    assert ds.ftle.dims == ("radius", "gamma", "orbit") and (np.diff(ds.gamma.values) > 0).all()
+    assert (ds.n_regular <= ds.n_valid).all()
+    np.testing.assert_allclose(ds.head_on_onset, np.sqrt(1 / (2 * ds.radius) - 1), rtol=1e-12)
+    onset = ds.onset_gamma.values
+    assert ((onset >= ds.gamma.values[0]) & (onset <= ds.gamma.values[-1]))[np.isfinite(onset)].all()
+
+
+#: Specific checks of the datasets that have them (path under results/ -> check); every dataset
+#: also gets the generic checks of test_every_dataset_opens_with_provenance_and_sane_values.
+DATASET_CHECKS = {
+    "galton/distribution.nc": check_galton_distribution,
+    "galton/arrivals.nc": check_galton_distribution,
+    "galton/orbits.nc": check_galton_orbits,
+    "galton/radius_sweep.nc": check_galton_sweep,
+    "orbits/specnoslip.nc": check_orbits_specnoslip,
+    "orbits/pentagons.nc": check_orbits_pentagons,
+    "orbits/bounce.nc": check_orbits_bounce,
+    "orbits/newwedge.nc": check_orbits_newwedge,
+    "orbits/twodisks.nc": check_orbits_twodisks,
+    "orbits/sphere.nc": check_orbits_sphere,
+    "stability/wedge_orbits.nc": check_stability_wedge_orbits,
+    "stability/wedge_perturbed.nc": check_stability_perturbed,
+    "stability/launch_orbits.nc": check_stability_perturbed,
+    "stability/launch_scan.nc": check_stability_launch_scan,
+    "stability/grid_noforce.nc": check_stability_grid,
+    "stability/grid_force.nc": check_stability_grid,
+    "stability/grid_theta.nc": check_stability_grid,
+    "portraits/phaseportraits.nc": check_portraits,
+    "portraits/polygons.nc": check_portraits,
+    "portraits/sinai_gamma.nc": check_portraits_sinai_gamma,
+    "portraits/islands.nc": check_portraits_islands,
+    "portraits/hex_force.nc": check_portraits_hex_force,
+}
+
+
+def generic_checks(name, ds):
+    for key in GLOBAL_ATTRS:
+        assert ds.attrs.get(key), f"{name}: no global attribute {key!r}"
+    assert ds.attrs["source"].startswith("noslipsim ")
+    json.loads(ds.attrs["config"])
+    for var_name, var in ds.variables.items():
+        if var_name not in ds.dims:
+            assert "long_name" in var.attrs and "units" in var.attrs, f"{name}: {var_name} lacks long_name/units"
+        if var.dtype.kind != "f":
+            continue
+        values = var.values
+        if var_name.startswith("share") and not var_name.endswith("stderr"):
+            assert np.isfinite(values).all(), f"{name}: {var_name} has NaN"
+            assert ((values >= -TOL) & (values <= 1 + TOL)).all(), f"{name}: {var_name} outside [0, 1]"
+        if var_name in ds.coords and var_name not in ("gamma",):      # gamma is NaN for specular by design
+            assert np.isfinite(values).all(), f"{name}: coordinate {var_name} has NaN"
+        if var_name in ("n_collisions", "t_final", "x_final", "y_final"):
+            assert np.isfinite(values).all(), f"{name}: {var_name} has NaN"
+    if "vt_unit" in ds and "w_unit" in ds:                             # velocity portraits: the unit disk
+        r = np.hypot(ds.vt_unit.values, ds.w_unit.values)
+        assert (r[np.isfinite(r)] <= 1 + TOL).all(), f"{name}: portrait point off the unit disk"
+    if "arrived" in ds:
+        assert set(np.unique(ds.arrived.values)) <= {0, 1}
+
+
+def test_every_dataset_opens_with_provenance_and_sane_values(repo):
+    results = repo / ".test" / "results"
+    found = sorted(p.relative_to(results).as_posix() for p in results.rglob("*.nc"))
+    assert set(DATASET_CHECKS) <= set(found), f"missing datasets: {set(DATASET_CHECKS) - set(found)}"
+    for name in found:
+        with xr.open_dataset(results / name) as ds:
+            ds.load()
+        generic_checks(name, ds)
+        if name in DATASET_CHECKS:
+            DATASET_CHECKS[name](ds)
+
+
+# ---------------------------------------------------------------- figures
+def test_every_figure_is_a_pdf_and_a_png_and_redraws_byte_identically(repo):
+    outputs = summary(repo)
+    figures = sorted({Path(f).stem for f in outputs if f.startswith("figures/fig")})
+    assert figures, "the workflow makes no figure"
+    for stem in figures:
+        for ext in (".pdf", ".png"):
+            path = repo / ".test" / "figures" / f"{stem}{ext}"
+            assert path.is_file() and path.stat().st_size > 1000, f"{path.name} missing or empty"
+        assert (repo / ".test" / "figures" / f"{stem}.pdf").read_bytes().startswith(b"%PDF")
+        assert (repo / ".test" / "figures" / f"{stem}.png").read_bytes().startswith(b"\x89PNG")
+    before = digests(repo / ".test" / "figures")
+    rules = sorted({rule for f, rule in outputs.items() if f.startswith("figures/")})
+    snakemake(repo, "--cores", "2", "--forcerun", *rules)
+    after = digests(repo / ".test" / "figures")
+    assert after == before, [k for k in before if before[k] != after.get(k)]
+
+
+def test_numbers_are_gathered_and_rendered(repo):
+    numbers = json.loads((repo / ".test" / "figures" / "numbers.json").read_text(encoding="utf-8"))
+    assert "galton" in numbers and "share_not_arrived_noslip" in numbers["galton"]
+    for records in numbers.values():
+        for record in records.values():
+            if isinstance(record["value"], float):
+                assert math.isfinite(record["value"])
+    table = (repo / ".test" / "figures" / "numbers.md").read_text(encoding="utf-8")
+    assert table == numbers_markdown(numbers)
+
+
+# ---------------------------------------------------------------- parameter tracking, lint, report
+def planned_jobs(repo):
+    """``{rule: count}`` of a dry run."""
+    out = snakemake(repo, "-n", "--cores", "2").stdout
+    jobs = {}
+    table = re.search(r"job\s+count\n[-\s]+\n(.*?)\ntotal", out, re.S)
+    if table:
+        for line in table.group(1).splitlines():
+            rule, count = line.split()
+            jobs[rule] = int(count)
+    return jobs
+
+
+def test_changing_one_config_value_reruns_only_what_depends_on_it(repo):
+    assert planned_jobs(repo) == {}                     # everything is up to date
+    cfg = repo / ".test" / "config" / "config.yaml"
+    text = cfg.read_text()
+    # galton.orbits.max_collisions: only Figure 2's dataset and the figure depend on it
+    key = re.compile(r"(\ngalton:\n(?:  .*\n)*?  orbits:\n(?:    .*\n)*?    max_collisions: )(\d+)")
+    assert key.search(text), "the reduced config changed shape: update this test's key"
+    cfg.write_text(key.sub(lambda m: m.group(1) + str(int(m.group(2)) + 1), text, count=1))
+    try:
+        assert planned_jobs(repo) == {"galton_orbits": 1, "fig02_galtonboard": 1, "all": 1}
+    finally:
+        cfg.write_text(text)
+    assert planned_jobs(repo) == {}
+
+
+def test_lint_is_clean(repo):
+    out = snakemake(repo, "--lint")
+    assert "Lints for" not in out.stdout + out.stderr and "Congratulations" in out.stdout + out.stderr
+
+
+def test_report_holds_every_figure_with_its_caption(repo):
+    snakemake(repo, "--report", "report.html")
+    html = (repo / ".test" / "report.html").read_text(encoding="utf-8", errors="replace")
+    for caption in sorted((ROOT / "workflow" / "report").glob("fig*.rst")):
+        assert caption.stem in html
+        title = re.search(r"\*\*(Figure [^*]+)\*\*", caption.read_text(encoding="utf-8")).group(1)
+        assert title in html, f"caption of {caption.stem} not in the report"
+
+
+# ---------------------------------------------------------------- the committed paper-size numbers
+def test_readme_table_is_the_generated_numbers_table():
+    numbers = json.loads((ROOT / "figures" / "numbers.json").read_text(encoding="utf-8"))
+    table = (ROOT / "figures" / "numbers.md").read_text(encoding="utf-8")
+    assert table == numbers_markdown(numbers)
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    block = re.search(r"<!-- numbers:start -->\n(.*?)<!-- numbers:end -->", readme, re.S)
+    assert block, "README.md has no <!-- numbers:start --> ... <!-- numbers:end --> block"
+    assert block.group(1).strip() == table.strip(), "README numbers table differs from figures/numbers.md"
