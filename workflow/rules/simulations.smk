@@ -9,7 +9,7 @@ rule compile_kernels:
     # (KERNELS in common.smk) before its simulation jobs fan out.  Compile jobs of different
     # subjects take turns (a file lock): numba's cache is not safe to fill from parallel processes.
     output:
-        "results/kernels/{subject}.json",
+        stamp="results/kernels/{subject}.json",
     params:
         entries=kernel_entries,
         core=core_digest(),
