@@ -136,6 +136,9 @@ def test_netcdf_round_trip(tmp_path):
         assert back.attrs[key]
     assert '"flag": true' in back.attrs["config"]
     assert not list((tmp_path / "sub").glob(".tmp-*"))
+    plain = tmp_path / "sub" / "plain"
+    plain.write_text("")  # a dataset is as readable as any file made here (not mkstemp's private 0600)
+    assert (tmp_path / "sub" / "ens.nc").stat().st_mode & 0o777 == plain.stat().st_mode & 0o777
 
 
 def test_galton_distribution_is_seeded_and_reports_arrivals():

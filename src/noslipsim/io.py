@@ -53,6 +53,16 @@ def describe(ds: xr.Dataset, *, title=None, config=None, history=None) -> xr.Dat
     return ds
 
 
+def _umask():
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+#: Permissions of a written dataset: those of a file created with ``open`` under the umask.
+_CREATE_MODE = 0o666 & ~_umask()
+
+
 def write_dataset(ds: xr.Dataset, path, *, title=None, config=None, history=None) -> xr.Dataset:
     """Write ``ds`` to netCDF at ``path`` atomically (temporary file, then rename).
 
@@ -66,6 +76,7 @@ def write_dataset(ds: xr.Dataset, path, *, title=None, config=None, history=None
     os.close(fd)
     try:
         ds.to_netcdf(tmp, engine="netcdf4")
+        os.chmod(tmp, _CREATE_MODE)  # mkstemp makes the file private; a dataset is as readable as any new file
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):
