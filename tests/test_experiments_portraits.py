@@ -8,7 +8,7 @@ import pytest
 from noslipsim import Scene, simulate, tables
 from noslipsim.analysis import islands
 from noslipsim.experiments import (
-    closed_hex_cell, hex_force_portraits, lemon_sinai_portraits, polygon_portraits, portrait_set, sinai_gamma_portraits,
+    hex_force_portraits, lemon_sinai_portraits, polygon_portraits, portrait_set, sinai_gamma_portraits,
     sinai_islands_sweep,
 )
 
@@ -95,7 +95,7 @@ def test_polygons_and_gamma_portraits_have_their_coordinates():
 
 
 def test_closed_hex_cell_is_the_wigner_seitz_cell_with_walls():
-    cell = closed_hex_cell(0.3)
+    cell = tables.closed_hex_cell(0.3)
     assert len(cell.elements) == 7 and cell.lattice is None
     inside = np.array([[0.49, 0.0], [-0.49, 0.0], [0.0, 0.57], [0.0, -0.57], [0.0, 0.31]])
     outside = np.array([[0.51, 0.0], [0.0, 0.6], [0.0, 0.29], [0.45, 0.45]])
@@ -104,9 +104,9 @@ def test_closed_hex_cell_is_the_wigner_seitz_cell_with_walls():
     assert np.allclose(np.hypot(*v.T), 1 / math.sqrt(3)) and np.isclose(v[:, 1].max(), 1 / math.sqrt(3))
     for bad in (0.0, 0.5):
         with pytest.raises(ValueError, match="radius"):
-            closed_hex_cell(bad)
+            tables.closed_hex_cell(bad)
     # under a force the energy is conserved and bounds the height the particle reaches
-    o = simulate(closed_hex_cell(0.3, force=(0.0, -4.0)), (0.0, 0.45), (0.6, 0.8), 0.1, max_collisions=2000)
+    o = simulate(tables.closed_hex_cell(0.3, force=(0.0, -4.0)), (0.0, 0.45), (0.6, 0.8), 0.1, max_collisions=2000)
     assert np.ptp(o.energy.values) < 1e-9 * abs(float(o.energy[0])) + 1e-12
     assert (np.abs(o.x.values) <= 0.5 + 1e-9).all()
 

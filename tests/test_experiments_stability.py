@@ -115,8 +115,8 @@ def test_launch_scan_transition_and_scale_invariance():
     ds = ex.wedge_launch_scan(phis, thetas, G)
     for phi, t in zip(phis, ds.theta_transition.values):
         # the root of lambda + 1/lambda = 2, elliptic just below and hyperbolic just above ...
-        below = ex._wedge_monodromy(phi, t - 1e-6, G, 1.0, "up", 1.0)
-        above = ex._wedge_monodromy(phi, t + 1e-6, G, 1.0, "up", 1.0)
+        below = ex.stability._wedge_monodromy(phi, t - 1e-6, G, 1.0, "up", 1.0)
+        above = ex.stability._wedge_monodromy(phi, t + 1e-6, G, 1.0, "up", 1.0)
         assert below.kind == "elliptic" and above.kind == "hyperbolic"
         # ... at the launch parallel to the far wall (the law found for every phi and gamma tried)
         assert t == pytest.approx(math.pi / 2 - phi, abs=1e-9)

@@ -102,3 +102,10 @@ def _yaml_problem(err):
                    if cmark is not None and cmark is not mark else "")
         problem = f"{problem} ({err.context}{started})"
     return " ".join(f"YAML syntax error{at}: {problem}".split())
+
+
+def count(value, field, minimum=1):
+    """``value`` as an int ``>= minimum`` (bools and floats refused), or ``ValueError`` naming ``field``."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise ValueError(f"{field}: expected an integer >= {minimum}, got {value!r}")
+    return int(value)

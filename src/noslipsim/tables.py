@@ -154,6 +154,22 @@ def hex_lorentz_cell(radius=0.3, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.
                  lattice={"a1": [1.0, 0.0], "a2": [0.5, math.sqrt(3.0) / 2.0]})
 
 
+def closed_hex_cell(radius=0.4, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0)):
+    """The hexagonal Wigner-Seitz cell of :func:`noslipsim.tables.hex_lorentz_cell`, closed by walls.
+
+    Six segments (counter-clockwise, elements 0-5; vertices at ``(cos a, sin a)
+    / sqrt(3)``, ``a = pi/6 + k pi/3``: vertical sides at ``x = +-1/2``, a vertex
+    at the top and one at the bottom) and the disk of ``radius`` at the origin
+    (element 6).  Unlike the periodic cell, a particle cannot leave it, so its
+    energy ``(|v|^2 + w^2)/2 - a.q`` bounds the kinetic energy under a force.
+    """
+    if not 0 < radius < 0.5:
+        raise ValueError(f"radius: must lie in (0, 1/2) (the cell's inradius), got {radius}")
+    a = math.pi / 6 + math.pi / 3 * np.arange(6)
+    return polygon(np.c_[np.cos(a), np.sin(a)] / math.sqrt(3.0), disks=[(0.0, 0.0, radius)], law=law,
+                   gamma=gamma, force=force)
+
+
 def galton_board(spacing=2.0, radius=0.5, gravity=1.0, *, law="no-slip", gamma=UNIFORM_DISK):
     """Galton board: pegs of ``radius`` on a triangular lattice of ``spacing``, force ``(0, -gravity)``.
 

@@ -57,6 +57,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from .._validate import count
 from ..elements import Arc, Circle, Segment
 from ..ensemble import simulate_many
 from ..initial import rng_from
@@ -78,12 +79,6 @@ VISIBLE_SHARE = 0.01
 
 #: Starts whose first flight is shorter than this (in time) are grazing; they are redrawn.
 MIN_FLIGHT = 1e-9
-
-
-def _count(value, field, minimum=1):
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise ValueError(f"{field}: expected an integer >= {minimum}, got {value!r}")
-    return int(value)
 
 
 def _scene(scene):
@@ -138,7 +133,7 @@ def uniform_reduced_states(scene: Scene, n, seed=0, *, elements=None, speed=1.0)
         ``sin_angle`` (specular).
     """
     scene = _scene(scene)
-    n = _count(n, "n", minimum=0)
+    n = count(n, "n", minimum=0)
     idx = _finite_elements(scene, elements)
     total = float(sum(scene.elements[i].length() for i in idx))
     rng = rng_from(seed)
@@ -252,8 +247,8 @@ def finite_time_lyapunov(scene: Scene, positions, velocities, spins=None, *, n_c
     if q.ndim != 2 or q.shape[1] != 2 or v.shape != q.shape or w.shape != (len(q),):
         raise ValueError(f"positions, velocities, spins: expected shapes (n, 2), (n, 2), (n,), got "
                          f"{q.shape}, {v.shape}, {w.shape}")
-    n_collisions = _count(n_collisions, "n_collisions", minimum=9)
-    num_workers = _count(num_workers, "num_workers")
+    n_collisions = count(n_collisions, "n_collisions", minimum=9)
+    num_workers = count(num_workers, "num_workers")
     if num_workers == 1 or len(q) < 2:
         return np.array([_one_ftle(scene, q[i], v[i], w[i], n_collisions) for i in range(len(q))])
     with ThreadPoolExecutor(num_workers) as pool:
@@ -346,7 +341,7 @@ def onset_gamma(gammas, counts, n, *, level=VISIBLE_SHARE, n_boot=2000, seed=0):
     level = float(level)
     if not 0.0 < level < 1.0:
         raise ValueError(f"level: must lie in (0, 1), got {level}")
-    n_boot = _count(n_boot, "n_boot")
+    n_boot = count(n_boot, "n_boot")
     p = k / nn
     value = _crossing(g, p, level)
     rng = np.random.default_rng(seed)

@@ -1,0 +1,30 @@
+"""The paper's experiments as functions that return self-describing datasets.
+
+One module per subject of the figure pipeline: :mod:`.galton` (Figures 2, 3, S1),
+:mod:`.orbits` (Figures 1, 4, 5, 6, 8, 16), :mod:`.stability` (Figures 7, 9, 14, 15) and
+:mod:`.portraits` (Figures 10-13), over :mod:`.orbit_sets` (several orbits as one dataset).
+``EXPERIMENTS`` names those a config file can run (``noslipsim run``).
+"""
+from .galton import galton_cases, galton_distribution, galton_orbits, galton_radius_sweep
+from .orbit_sets import orbit_set, phase_portrait
+from .orbits import (
+    bounce_orbits, newwedge_orbits, pentagon_orbits, specular_noslip_orbits, sphere_bounce, two_disk_box_orbits,
+)
+from .portraits import (
+    hex_force_portraits, lemon_sinai_portraits, polygon_portraits, portrait_set,
+    sinai_gamma_portraits, sinai_islands_sweep,
+)
+from .stability import perturbed_wedge_orbits, survival_pattern, wedge_launch_scan, wedge_periodic_orbits
+
+EXPERIMENTS = {f.__name__: f for f in (
+    galton_distribution, galton_radius_sweep, galton_orbits,
+    specular_noslip_orbits, pentagon_orbits, bounce_orbits, newwedge_orbits, two_disk_box_orbits, sphere_bounce,
+    wedge_periodic_orbits, perturbed_wedge_orbits, wedge_launch_scan,
+    sinai_gamma_portraits, sinai_islands_sweep, hex_force_portraits, polygon_portraits, lemon_sinai_portraits,
+)}
+
+__all__ = ["EXPERIMENTS", "galton_cases", "galton_distribution", "galton_orbits", "galton_radius_sweep", "orbit_set",
+           "phase_portrait", "bounce_orbits", "newwedge_orbits", "pentagon_orbits", "specular_noslip_orbits",
+           "sphere_bounce", "two_disk_box_orbits", "hex_force_portraits", "lemon_sinai_portraits",
+           "polygon_portraits", "portrait_set", "sinai_gamma_portraits", "sinai_islands_sweep",
+           "perturbed_wedge_orbits", "survival_pattern", "wedge_launch_scan", "wedge_periodic_orbits"]

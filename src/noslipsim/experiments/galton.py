@@ -1,0 +1,198 @@
+"""Galton board experiments (paper, introduction and Figures 2 and 3; Figure S1 beyond it)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+
+from .. import initial, tables
+from .._validate import count
+from ..core import layout
+from ..ensemble import simulate_many
+from ..metadata import annotate
+from .orbit_sets import orbit_set
+
+
+def gamma_values(gamma):
+    """One gamma or a sequence of them, validated (finite, >= 0, no repeats)."""
+    values = [gamma] if np.ndim(gamma) == 0 else list(gamma)
+    if not values:
+        raise ValueError("gamma: expected at least one value")
+    out = []
+    for g in values:
+        try:
+            g = float(g)
+        except (TypeError, ValueError):
+            raise ValueError(f"gamma: expected numbers, got {g!r}") from None
+        if not (math.isfinite(g) and g >= 0.0):
+            raise ValueError(f"gamma: must be finite and >= 0, got {g}")
+        out.append(g)
+    if len(set(out)) != len(out):
+        raise ValueError(f"gamma: repeated values in {out}")
+    return out
+
+
+def galton_cases(laws, gamma):
+    """``(law, gamma)`` pairs of a run: specular once (gamma NaN, it plays no part), no-slip once per gamma."""
+    if isinstance(laws, str) or not laws:
+        raise ValueError(f"laws: expected a non-empty sequence of laws, got {laws!r}")
+    if len(set(laws)) != len(laws) or not set(laws) <= {"specular", "no-slip"}:
+        raise ValueError(f"laws: expected distinct laws among ('specular', 'no-slip'), got {tuple(laws)}")
+    gammas = gamma_values(gamma)
+    return [(law, g) for law in laws for g in ([math.nan] if law == "specular" else gammas)]
+
+
+def galton_distribution(n_particles=100_000, *, laws=("specular", "no-slip"), gamma=1 / math.sqrt(2),
+                        spacing=2.0, radius=0.5, gravity=1.0, rows=100, max_time=1000.0,
+                        start=(1.0, 0.0), max_collisions=10**7, seed=0, chunk_size=None,
+                        scheduler=None, progress=None, num_workers=None):
+    r"""Terminal horizontal positions and arrival times on a Galton board (paper, introduction and Figure 3).
+
+    Particles start at ``start`` (by default in the gap between two pegs of
+    the top row) with unit speed in a uniformly random direction and zero
+    spin, under the force ``(0, -gravity)``; an orbit ends when it crosses
+    the terminal depth
+
+    .. math::
+
+        y = y_\mathrm{start} - \mathrm{rows} \cdot \mathrm{spacing} \sqrt{3}/2
+
+    (exact crossing), or at ``max_time`` (not arrived).  The same seed gives
+    the same directions for every law and gamma.  Nondimensional units: the
+    scene's lengths, ``g`` and the unit start speed fix the time scale.
+
+    Parameters
+    ----------
+    n_particles : int
+        Particles per case.
+    laws : sequence of {'specular', 'no-slip'}
+        Collision laws.
+    gamma : float or sequence of float
+        Mass-distribution constant(s) of the no-slip runs (one case per
+        value); the specular law does not use it.
+    spacing, radius, gravity : float
+        Board geometry (:func:`noslipsim.tables.galton_board`).
+    rows : int
+        Peg rows between the start and the terminal depth.
+    max_time : float
+        Termination time.
+    start : (float, float)
+        Drop point, strictly inside the table.
+    max_collisions : int
+        Collision budget per particle (a particle that spends it stops, not arrived).
+    seed : int
+        Seed of the initial directions (:func:`noslipsim.initial.unit_velocities`).
+    chunk_size, scheduler, progress, num_workers
+        Passed to :func:`noslipsim.simulate_many`.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims ``(law, particle)``, one entry of ``law`` per case (a law name
+        repeats when several gammas are run), with the coordinate ``gamma``
+        along ``law`` (NaN for specular): ``x_terminal`` (displacement from the
+        start, NaN if not arrived), ``t_terminal`` (NaN if not arrived),
+        ``arrived``, ``x_end, y_end`` (displacement from the start where the
+        orbit ended: at the terminal depth, or at ``max_time`` for particles
+        not arrived), ``n_collisions``, ``stop_reason``; per case
+        ``share_not_arrived``.  The geometry, limits and seed are attributes.
+        Variables are described in docs/datasets.md.
+    """
+    n_particles = count(n_particles, "n_particles")
+    rows = count(rows, "rows")
+    cases = galton_cases(laws, gamma)
+    depth = rows * spacing * math.sqrt(3.0) / 2.0
+    level = start[1] - depth
+    vel = initial.unit_velocities(n_particles, seed)
+    pos = np.tile(np.asarray(start, float), (n_particles, 1))
+    out = []
+    for law, g in cases:
+        scene = tables.galton_board(spacing, radius, gravity, law=law, gamma=0.0 if law == "specular" else g)
+        ds = simulate_many(scene, pos, vel, np.zeros(n_particles), max_collisions=max_collisions,
+                           max_time=max_time, stop_below=level, record="final", chunk_size=chunk_size,
+                           scheduler=scheduler, progress=progress, num_workers=num_workers)
+        arrived = ds.stop_reason.values == layout.STOP_LEVEL
+        out.append(xr.Dataset({
+            "x_terminal": ("particle", np.where(arrived, ds.x_final.values - start[0], np.nan),
+                           {"long_name": "horizontal displacement at the terminal depth", "units": "1"}),
+            "t_terminal": ("particle", np.where(arrived, ds.t_final.values, np.nan),
+                           {"long_name": "time of arrival at the terminal depth", "units": "1"}),
+            "arrived": ("particle", arrived.astype(np.int8),
+                        {"long_name": "1 if the particle reached the terminal depth by max_time", "units": "1"}),
+            "x_end": ("particle", ds.x_final.values - start[0],
+                      {"long_name": "horizontal displacement where the orbit ended (terminal depth or max_time)",
+                       "units": "1"}),
+            "y_end": ("particle", ds.y_final.values - start[1],
+                      {"long_name": "vertical displacement where the orbit ended (terminal depth or max_time)",
+                       "units": "1"}),
+            "n_collisions": ("particle", ds.n_collisions.values),
+            "stop_reason": ("particle", ds.stop_reason.values, ds.stop_reason.attrs),
+        }))
+    res = xr.concat(out, dim=xr.DataArray([law for law, _ in cases], dims="law", name="law"))
+    res = res.assign_coords(gamma=("law", [g for _, g in cases],
+                                   {"long_name": "mass-distribution constant gamma (NaN: specular, not used)",
+                                    "units": "1"}))
+    res["law"].attrs.update(long_name="collision law", units="1")
+    res["share_not_arrived"] = 1.0 - res.arrived.mean("particle")
+    res["share_not_arrived"].attrs = {"long_name": "share of particles not at the terminal depth by max_time",
+                                      "units": "1"}
+    res.attrs.update(title="Galton board terminal distribution", spacing=spacing, radius=radius,
+                     gravity=gravity, rows=rows, terminal_depth=depth, max_time=max_time,
+                     start=list(start), seed=seed, n_particles=n_particles, max_collisions=max_collisions)
+    return annotate(res)
+
+
+def galton_radius_sweep(n_particles=2000, *, radii=(0.85, 0.9, 0.95), laws=("specular", "no-slip"),
+                        gamma=1 / math.sqrt(2), **kwargs):
+    """:func:`galton_distribution` for several peg radii (the same starts for every radius).
+
+    Parameters
+    ----------
+    n_particles : int
+        Particles per radius and case.
+    radii : sequence of float
+        Peg radii (increasing), each with ``0 < 2 radius < spacing``.
+    laws, gamma, **kwargs
+        As in :func:`galton_distribution` (``radius`` excluded).
+
+    Returns
+    -------
+    xarray.Dataset
+        The datasets of :func:`galton_distribution` stacked along a leading
+        ``radius`` dimension (coordinate ``radius``, no ``radius`` attribute).
+    """
+    if "radius" in kwargs:
+        raise ValueError("radius: give the peg radii as radii=[...]")
+    radii = [float(r) for r in np.atleast_1d(np.asarray(radii, dtype=float))]
+    if not radii or np.any(np.diff(radii) <= 0):
+        raise ValueError(f"radii: expected increasing peg radii, got {radii}")
+    parts = [galton_distribution(n_particles, laws=laws, gamma=gamma, radius=r, **kwargs) for r in radii]
+    res = xr.concat(parts, dim=xr.DataArray(radii, dims="radius", name="radius",
+                                            attrs={"long_name": "peg radius", "units": "1"}),
+                    combine_attrs="drop_conflicts")
+    res.attrs["title"] = "Galton board terminal distribution against peg radius"
+    return res
+
+
+def galton_orbits(gammas=(0.0, 1 / math.sqrt(2), 3.0), *, velocity=(0.6, 0.8), spin=0.0, spacing=2.0,
+                  radius=0.5, gravity=1.0, rows=100, max_time=1000.0, start=(1.0, 0.0), max_collisions=10**5):
+    """Galton-board orbits from one start for several gammas (paper, Figure 2).
+
+    ``gamma = 0`` is run with the specular law (the same path as no-slip with
+    gamma = 0, which only reverses the spin, docs/conventions.md); each orbit
+    ends at the terminal depth ``rows`` peg rows below the start, or at
+    ``max_time``.  Returns an :func:`orbit_set` dataset with the board's
+    geometry as attributes.
+    """
+    rows = count(rows, "rows")
+    gammas = gamma_values(gammas)
+    scenes = [tables.galton_board(spacing, radius, gravity, law="specular" if g == 0.0 else "no-slip",
+                                  gamma=g) for g in gammas]
+    n = len(scenes)
+    depth = rows * spacing * math.sqrt(3.0) / 2.0
+    ds = orbit_set(scenes, [start] * n, [velocity] * n, [spin] * n, max_collisions=max_collisions,
+                   max_time=max_time, stop_below=start[1] - depth)
+    ds.attrs.update(title="Galton board orbits", spacing=spacing, radius=radius, gravity=gravity, rows=rows,
+                    terminal_depth=depth, start=list(start), velocity=list(velocity), spin=spin)
+    return ds
