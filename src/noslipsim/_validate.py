@@ -29,6 +29,33 @@ def finite_vector(value, field, size=2):
     return arr
 
 
+def positive(value, field):
+    """``value`` as a finite float ``> 0``, or ``ValueError`` naming ``field``."""
+    x = finite_float(value, field)
+    if not x > 0.0:
+        raise ValueError(f"{field}: must be > 0, got {x}")
+    return x
+
+
+def nonnegative(value, field):
+    """``value`` as a finite float ``>= 0``, or ``ValueError`` naming ``field``."""
+    x = finite_float(value, field)
+    if x < 0.0:
+        raise ValueError(f"{field}: must be >= 0, got {x}")
+    return x
+
+
+def one_of(value, allowed, field):
+    """``value`` if it is one of ``allowed``, else ``ValueError`` naming ``field`` and the choices."""
+    try:
+        ok = value in allowed
+    except TypeError:  # unhashable values cannot be a choice
+        ok = False
+    if not ok:
+        raise ValueError(f"{field}: must be one of {list(allowed)}, got {value!r}")
+    return value
+
+
 def no_unknown_keys(mapping, allowed, where):
     """Reject keys of ``mapping`` outside ``allowed``."""
     if not isinstance(mapping, dict):

@@ -22,7 +22,7 @@ import numpy as np
 import yaml
 
 from ._unit import unit_pair
-from ._validate import finite_float, finite_vector, no_unknown_keys, read_yaml, required
+from ._validate import finite_vector, no_unknown_keys, nonnegative, read_yaml, required
 from .core import layout
 from .core.laws import noslip_coefficients
 from .core.loop import kernel_flags
@@ -37,13 +37,6 @@ def _law_name(law):
     if not isinstance(law, str) or law not in LAWS:
         raise ValueError(f"law: unknown collision law {law!r}; expected 'no-slip' or 'specular'")
     return "no-slip" if LAWS[law] == layout.NOSLIP else "specular"
-
-
-def _gamma(value):
-    g = finite_float(value, "gamma")
-    if g < 0.0:
-        raise ValueError(f"gamma: must be >= 0, got {g}")
-    return g
 
 
 #: Most element copies a periodic scene may need around one cell (counted from the
@@ -131,7 +124,7 @@ class Scene:
 
     def __post_init__(self):
         object.__setattr__(self, "law", _law_name(self.law))
-        object.__setattr__(self, "gamma", _gamma(self.gamma))
+        object.__setattr__(self, "gamma", nonnegative(self.gamma, "gamma"))
         object.__setattr__(self, "force", tuple(float(f) for f in finite_vector(self.force, "force")))
         object.__setattr__(self, "elements", _element_tuple(self.elements))
         if not self.elements:

@@ -26,7 +26,7 @@ import math
 
 import numpy as np
 
-from ._validate import finite_float
+from ._validate import finite_float, one_of, positive
 from .core.laws import noslip_coefficients
 
 __all__ = [
@@ -51,19 +51,6 @@ def _array(value, field):
 
 def _out(arr):
     return float(arr) if np.ndim(arr) == 0 else arr
-
-
-def _positive(value, field):
-    x = finite_float(value, field)
-    if not x > 0.0:
-        raise ValueError(f"{field}: must be > 0, got {x}")
-    return x
-
-
-def _choice(value, allowed, field):
-    if value not in allowed:
-        raise ValueError(f"{field}: must be one of {list(allowed)}, got {value!r}")
-    return value
 
 
 def _angle(value, field, low_open=True):
@@ -156,8 +143,8 @@ def projectile_speed(g, d, theta):
     theta : float
         Launch angle above the horizontal, in ``(0, pi/2)``.
     """
-    g = _positive(g, "g")
-    d = _positive(d, "d")
+    g = positive(g, "g")
+    d = positive(d, "d")
     theta = _angle(theta, "theta")
     return math.sqrt(g * d / math.sin(2.0 * theta))
 
@@ -218,11 +205,11 @@ def wedge_two_periodic_start(phi, theta, ell, gamma, g=1.0, opening="up", wall="
     """
     phi = _angle(phi, "phi")
     theta = _angle(theta, "theta")
-    ell = _positive(ell, "ell")
-    gamma = _positive(gamma, "gamma")
-    g = _positive(g, "g")
-    _choice(opening, _OPENINGS, "opening")
-    _choice(wall, _WALLS, "wall")
+    ell = positive(ell, "ell")
+    gamma = positive(gamma, "gamma")
+    g = positive(g, "g")
+    one_of(opening, _OPENINGS, "opening")
+    one_of(wall, _WALLS, "wall")
     sy = 1.0 if opening == "up" else -1.0
     sx = 1.0 if wall == "left" else -1.0
     if opening == "down" and not theta + phi < math.pi / 2:
@@ -270,7 +257,7 @@ def wedge_noforce_gamma(vx, w, phi, opening="up"):
     vx = finite_float(vx, "vx")
     w = finite_float(w, "w")
     phi = _angle(phi, "phi")
-    _choice(opening, _OPENINGS, "opening")
+    one_of(opening, _OPENINGS, "opening")
     if vx == 0.0:
         raise ValueError("vx: must be nonzero (a horizontal flight across the wedge)")
     if w == 0.0:

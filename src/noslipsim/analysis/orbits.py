@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from .. import tables, theory
-from .._validate import finite_float
+from .._validate import finite_float, nonnegative, one_of
 from ..core import layout
 from .section import interior_log
 
@@ -70,19 +70,6 @@ def _reversing_spin(v_arrival, n_out, gamma, where):
                              f"impact at {where} has v_t = {vt:.6g}; use gamma > 0 or a perpendicular chord")
         return 0.0
     return vt / gamma
-
-
-def _gamma(value):
-    g = finite_float(value, "gamma")
-    if g < 0.0:
-        raise ValueError(f"gamma: must be >= 0, got {g}")
-    return g
-
-
-def _choice(value, allowed, field):
-    if value not in allowed:
-        raise ValueError(f"{field}: must be one of {list(allowed)}, got {value!r}")
-    return value
 
 
 def _check_landing(scene, state, element, q1, what):
@@ -175,7 +162,7 @@ def two_disk_orbit(radius, phi, gamma, *, theta=None, gravity=0.0):
     if not 0.0 <= phi < math.pi / 2:
         raise ValueError(f"phi: must lie in [0, pi/2), got {phi}; at phi >= pi/2 the chord q0 q1 would "
                          "meet the right disk on its far side")
-    gamma = _gamma(gamma)
+    gamma = nonnegative(gamma, "gamma")
     g = finite_float(gravity, "gravity")
     if g < 0.0:
         raise ValueError(f"gravity: must be >= 0 (the force is (0, -gravity)), got {g}")
@@ -253,8 +240,8 @@ def wedge_orbit(phi, theta, ell, gamma, *, gravity=1.0, opening="up", wall="left
     scene, state
         As :func:`two_disk_orbit`: the state half-way along the flight ``q0 -> q1``.
     """
-    _choice(opening, _OPENINGS, "opening")
-    _choice(wall, _WALLS, "wall")
+    one_of(opening, _OPENINGS, "opening")
+    one_of(wall, _WALLS, "wall")
     q0, v0, w0 = theory.wedge_two_periodic_start(phi, theta, ell, gamma, g=gravity, opening=opening, wall=wall)
     g = float(gravity)
     scene = tables.wedge(float(phi), opening=opening, gamma=float(gamma), force=(0.0, -g))
@@ -305,15 +292,15 @@ def wedge_noforce_orbit(phi, ell, gamma, *, speed=1.0, opening="up", wall="left"
     ell = finite_float(ell, "ell")
     if not ell > 0.0:
         raise ValueError(f"ell: must be > 0, got {ell}")
-    gamma = _gamma(gamma)
+    gamma = nonnegative(gamma, "gamma")
     if gamma == 0.0:
         raise ValueError("gamma: must be > 0 (a horizontal impact on a tilted wall is never "
                          "perpendicular, so gamma = 0 has no path-reversing orbit here)")
     speed = finite_float(speed, "speed")
     if not speed > 0.0:
         raise ValueError(f"speed: must be > 0, got {speed}")
-    _choice(opening, _OPENINGS, "opening")
-    _choice(wall, _WALLS, "wall")
+    one_of(opening, _OPENINGS, "opening")
+    one_of(wall, _WALLS, "wall")
     sx = 1.0 if wall == "left" else -1.0
     sy = 1.0 if opening == "up" else -1.0
     scene = tables.wedge(phi, opening=opening, gamma=gamma, force=(0.0, 0.0))
@@ -365,7 +352,7 @@ def bounce_orbit(vx, u, gamma, *, gravity=1.0):
     u = finite_float(u, "u")
     if not u > 0.0:
         raise ValueError(f"u: the vertical take-off speed must be > 0, got {u}")
-    gamma = _gamma(gamma)
+    gamma = nonnegative(gamma, "gamma")
     g = finite_float(gravity, "gravity")
     if not g > 0.0:
         raise ValueError(f"gravity: must be > 0, got {g}")

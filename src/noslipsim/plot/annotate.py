@@ -10,6 +10,8 @@ import math
 
 import numpy as np
 
+from .._validate import positive
+
 #: Samples along an angle arc.
 ARC_POINTS = 48
 
@@ -22,13 +24,6 @@ def _point(value, field):
     if not (math.isfinite(x) and math.isfinite(y)):
         raise ValueError(f"{field}: must be finite, got {value!r}")
     return x, y
-
-
-def _positive(value, field):
-    value = float(value)
-    if not (math.isfinite(value) and value > 0):
-        raise ValueError(f"{field}: must be finite and > 0, got {value}")
-    return value
 
 
 def draw_angle(ax, vertex, angle0, angle1, radius, label=None, *, color="k", linewidth=0.6,
@@ -57,7 +52,7 @@ def draw_angle(ax, vertex, angle0, angle1, radius, label=None, *, color="k", lin
         The arc.
     """
     x, y = _point(vertex, "vertex")
-    radius = _positive(radius, "radius")
+    radius = positive(radius, "radius")
     a0, a1 = float(angle0), float(angle1)
     if not (math.isfinite(a0) and math.isfinite(a1)):
         raise ValueError(f"angle0, angle1: must be finite, got {angle0!r}, {angle1!r}")
