@@ -21,6 +21,7 @@ from .core import layout
 from .core.batch import (
     F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y, N_FINAL, batch_kernels,
 )
+from .canonical import canonical_form
 from .lattice import cell_of, cell_origin
 from .metadata import annotate
 from .scenes import Scene
@@ -230,20 +231,16 @@ def simulate_many(scene: Scene, positions, velocities, spins=None, *, max_collis
         "log": (layout.RECORD_LOG, max_collisions, layout.N_LOG),
     }[record]
 
-    # starts relative to their cells (periodic scenes)
-    if scene.lattice is not None:
-        cells = cell_of(q, scene.lattice)
-        origins = cell_origin(cells, scene.lattice)
-    else:
-        cells = np.zeros((n, 2), dtype=np.int64)
-        origins = np.zeros((n, 2))
-    starts = np.ascontiguousarray(np.c_[q - origins, v, w])
-    levels = np.full(n, level) - origins[:, 1]
-    inputs = scene.kernel_inputs()
+    # the kernels run the canonical form; starts relative to their (canonical) cells
+    form = canonical_form(scene)
+    cells, origins, rel = form.kernel_starts(q)
+    starts = np.ascontiguousarray(np.c_[rel, v, w])
+    levels = np.full(n, form.user_level(level)) - origins[:, 1]
+    inputs = form.scene.kernel_inputs()
     c, s = scene.noslip_coefficients
-    variant = scene.kernel_variant(mode)
+    variant = form.scene.kernel_variant(mode)
     batch_kernels(variant)  # built here, not raced for by the dask threads
-    args = (inputs, variant, scene.law_code, c, s, scene.force, scene.scale)
+    args = (inputs, variant, scene.law_code, c, s, scene.force, form.scene.scale)
     tail = (max_collisions, max_time, mode, n_rec, n_cols, mask)
 
     if scheduler == "numba" or n == 0:
@@ -258,11 +255,29 @@ def simulate_many(scene: Scene, positions, velocities, spins=None, *, max_collis
         parts = _compute(tasks, scheduler, progress, num_workers)
         rec = np.concatenate([p[0] for p in parts]) if parts else np.zeros((0, n_rec, n_cols))
         final = np.concatenate([p[1] for p in parts]) if parts else np.zeros((0, N_FINAL))
-    return _ensemble_dataset(scene, record, rec, final, origins, cells, dict(
+    _to_user(form, record, rec, final, origins, cells, level)
+    return _ensemble_dataset(scene, record, rec, final, dict(
         max_collisions=max_collisions, max_time=max_time, stop_below=stop_below))
 
 
-def _ensemble_dataset(scene, record, rec, final, origins, cells, limits):
+def _to_user(form, record, rec, final, origins, cells, level):
+    """Kernel outputs (relative to each orbit's canonical start cell) to the user's coordinates, in place."""
+    x, y = final[:, F_X] + origins[:, 0], final[:, F_Y] + origins[:, 1]
+    if form.scene.lattice is not None:
+        final[:, F_CELL1], final[:, F_CELL2] = form.user_cells(final[:, F_CELL1] + cells[:, 0],
+                                                               final[:, F_CELL2] + cells[:, 1], x, y)
+    final[:, F_X], final[:, F_Y] = form.user_positions(x, y)
+    final[final[:, F_STOP] == layout.STOP_LEVEL, F_Y] = level  # the exact crossing of the user's level
+    if record == "log":
+        x = rec[:, :, layout.LOG_X] + origins[:, :1]
+        y = rec[:, :, layout.LOG_Y] + origins[:, 1:]
+        if form.scene.lattice is not None:
+            rec[:, :, layout.LOG_CELL_A1], rec[:, :, layout.LOG_CELL_A2] = form.user_cells(
+                rec[:, :, layout.LOG_CELL_A1] + cells[:, :1], rec[:, :, layout.LOG_CELL_A2] + cells[:, 1:], x, y)
+        rec[:, :, layout.LOG_X], rec[:, :, layout.LOG_Y] = form.user_positions(x, y)
+
+
+def _ensemble_dataset(scene, record, rec, final, limits):
     o = ("orbit",)
     n_coll = final[:, F_N].astype(np.int64)
     data = {
@@ -272,16 +287,16 @@ def _ensemble_dataset(scene, record, rec, final, origins, cells, limits):
     if record in ("final", "log"):
         data.update({
             "t_final": (o, final[:, F_T]),
-            "x_final": (o, final[:, F_X] + origins[:, 0]),
-            "y_final": (o, final[:, F_Y] + origins[:, 1]),
+            "x_final": (o, final[:, F_X]),
+            "y_final": (o, final[:, F_Y]),
             "vx_final": (o, final[:, F_VX]),
             "vy_final": (o, final[:, F_VY]),
             "spin_final": (o, final[:, F_W]),
             "n_corner": (o, final[:, F_CORNER].astype(np.int64)),
         })
         if scene.lattice is not None:
-            data["cell_a1_final"] = (o, final[:, F_CELL1].astype(np.int64) + cells[:, 0])
-            data["cell_a2_final"] = (o, final[:, F_CELL2].astype(np.int64) + cells[:, 1])
+            data["cell_a1_final"] = (o, final[:, F_CELL1].astype(np.int64))
+            data["cell_a2_final"] = (o, final[:, F_CELL2].astype(np.int64))
     if record == "portrait":
         p = ("orbit", "point")
         data.update({
@@ -300,11 +315,9 @@ def _ensemble_dataset(scene, record, rec, final, origins, cells, limits):
                 "s": layout.LOG_S, "corner": layout.LOG_CORNER}
         for name, col in cols.items():
             data[name] = (cdim, rec[:, :, col])
-        data["x"] = (cdim, rec[:, :, layout.LOG_X] + origins[:, :1])
-        data["y"] = (cdim, rec[:, :, layout.LOG_Y] + origins[:, 1:])
         if scene.lattice is not None:
-            data["cell_a1"] = (cdim, rec[:, :, layout.LOG_CELL_A1] + cells[:, :1])
-            data["cell_a2"] = (cdim, rec[:, :, layout.LOG_CELL_A2] + cells[:, 1:])
+            data["cell_a1"] = (cdim, rec[:, :, layout.LOG_CELL_A1])
+            data["cell_a2"] = (cdim, rec[:, :, layout.LOG_CELL_A2])
     ds = xr.Dataset(data, coords={"orbit": np.arange(len(final))})
     ds.attrs.update(
         title=f"noslipsim ensemble ({record})",

@@ -22,11 +22,16 @@ def lattice_matrix(lattice):
 
 
 def reaching_copies(elements, lattice):
-    """Int array ``(K, 3)`` of copies ``(element, o1, o2)`` whose bounding box meets cell 0.
+    """Int array ``(K, 3)`` of copies ``(element, o1, o2)`` that reach cell 0.
 
-    A copy translated by ``o1 a1 + o2 a2`` meets the centred cell when its box's
-    lattice coordinates overlap ``[-1/2, 1/2]`` in both directions (conservative:
-    a copy listed here may still miss the cell; none that meets it is left out).
+    A copy translated by ``o1 a1 + o2 a2`` reaches the centred cell when the
+    element itself (not only its box) comes within ``REACH_MARGIN`` (in lattice
+    coordinates) of the cell: a segment that crosses the cell, a circle whose
+    curve passes through it (a disk whose box only grazes a corner of the cell
+    is left out, and so is a circle enclosing the whole cell).  Arcs are tested
+    as their full circle and their box.  The test is conservative by the
+    margin: a copy listed here may miss the cell by that much; none that meets
+    it is left out.  Candidates come from the box's lattice coordinates.
     """
     A, B = lattice_matrix(lattice)
     rows = []
@@ -39,8 +44,45 @@ def reaching_copies(elements, lattice):
         hi = corners.max(axis=0) + REACH_MARGIN
         for o1 in range(math.ceil(-0.5 - hi[0]), math.floor(0.5 - lo[0]) + 1):
             for o2 in range(math.ceil(-0.5 - hi[1]), math.floor(0.5 - lo[1]) + 1):
-                rows.append((i, o1, o2))
+                if _reaches(e, A, B, o1, o2):
+                    rows.append((i, o1, o2))
     return np.array(rows, dtype=np.int64).reshape(-1, 3)
+
+
+def _reaches(e, A, B, o1, o2):
+    """Whether the copy of ``e`` shifted by ``o1 a1 + o2 a2`` comes within ``REACH_MARGIN`` of cell 0."""
+    from .elements import Segment
+
+    h = 0.5 + REACH_MARGIN
+    shift = A @ np.array([o1, o2], float)
+    if isinstance(e, Segment):  # clip the segment to the inflated cell in lattice coordinates
+        p = B @ (np.array(e.p0) + shift)
+        d = B @ (np.array(e.p1) + shift) - p
+        lo, hi = 0.0, 1.0
+        for k in range(2):
+            if d[k] == 0.0:
+                if abs(p[k]) > h:
+                    return False
+                continue
+            s0, s1 = sorted(((-h - p[k]) / d[k], (h - p[k]) / d[k]))
+            lo, hi = max(lo, s0), min(hi, s1)
+        return lo <= hi
+    # circles and arcs: the curve passes through the cell iff the cell's nearest point lies
+    # within r of the centre and its farthest vertex beyond r
+    c = np.array(e.center) + shift
+    r = e.radius
+    verts = np.array([[-h, -h], [h, -h], [h, h], [-h, h]]) @ A.T
+    far = float(np.hypot(*(verts - c).T).max())
+    inside = bool(np.all(np.abs(B @ c) <= h))
+    near = 0.0 if inside else min(_point_segment(c, verts[k], verts[(k + 1) % 4]) for k in range(4))
+    tol = REACH_MARGIN * r
+    return near <= r + tol and far >= r - tol
+
+
+def _point_segment(c, a, b):
+    ab = b - a
+    s = min(max(float((c - a) @ ab) / float(ab @ ab), 0.0), 1.0)
+    return float(np.hypot(*(c - a - s * ab)))
 
 
 def cell_of(points, lattice):

@@ -12,6 +12,7 @@ from ._version import __version__
 from .core import layout
 from .core.loop import orbit_kernel
 from .metadata import annotate
+from .canonical import canonical_form
 from .lattice import cell_of, cell_origin
 from .scenes import Scene
 
@@ -123,22 +124,35 @@ def start_cell(scene: Scene, q):
 
 
 def run_one(scene: Scene, q, v, w, max_collisions, max_time, level, mode, rec):
-    """Run the kernel for one validated start; positions and cells come back absolute."""
-    kinds, params, copies, A, B, lattice, jstart, jpts = scene.kernel_inputs()
+    """Run the kernel for one validated start; positions and cells come back absolute.
+
+    The kernel runs the scene's canonical form (:mod:`noslipsim.canonical`);
+    positions, levels and cell indices are mapped to and from the user's coordinates here.
+    """
+    form = canonical_form(scene)
+    kscene = form.scene
+    kinds, params, copies, A, B, lattice, jstart, jpts = kscene.kernel_inputs()
     mask = np.zeros(len(kinds), dtype=np.bool_)  # no portrait recorder for a single orbit
     c, s = scene.noslip_coefficients
     ax, ay = scene.force
-    cell, origin, r = start_cell(scene, q)
-    n, stop, n_corner, n_rec, t, x, y, vx, vy, w_f, m1, m2 = orbit_kernel(*scene.kernel_variant(mode))(
+    cell, origin, r = form.kernel_starts(q)
+    n, stop, n_corner, n_rec, t, x, y, vx, vy, w_f, m1, m2 = orbit_kernel(*kscene.kernel_variant(mode))(
         kinds, params, copies, A, B, lattice, jstart, jpts, scene.law_code, c, s, ax, ay, r[0], r[1], v[0], v[1], w,
-        max_collisions, max_time, level - origin[1], scene.scale, mode, rec, mask)
+        max_collisions, max_time, form.user_level(level) - origin[1], kscene.scale, mode, rec, mask)
     if mode == layout.RECORD_LOG and lattice:
-        rec[:n_rec, layout.LOG_X] += origin[0]
-        rec[:n_rec, layout.LOG_Y] += origin[1]
-        rec[:n_rec, layout.LOG_CELL_A1] += cell[0]
-        rec[:n_rec, layout.LOG_CELL_A2] += cell[1]
-    final = (t, x + origin[0], y + origin[1], vx, vy, w_f)
-    return n, stop, n_corner, n_rec, final, (m1 + int(cell[0]), m2 + int(cell[1]))
+        log = rec[:n_rec]
+        xs = log[:, layout.LOG_X] + origin[0]
+        ys = log[:, layout.LOG_Y] + origin[1]
+        m1s, m2s = form.user_cells(log[:, layout.LOG_CELL_A1] + cell[0], log[:, layout.LOG_CELL_A2] + cell[1], xs, ys)
+        log[:, layout.LOG_X], log[:, layout.LOG_Y] = form.user_positions(xs, ys)
+        log[:, layout.LOG_CELL_A1], log[:, layout.LOG_CELL_A2] = m1s, m2s
+    x, y = x + origin[0], y + origin[1]
+    m = form.user_cells(m1 + int(cell[0]), m2 + int(cell[1]), x, y)
+    x, y = form.user_positions(x, y)
+    if stop == layout.STOP_LEVEL:
+        y = level  # the stop is the exact crossing of the user's level
+    final = (t, x, y, vx, vy, w_f)
+    return n, stop, n_corner, n_rec, final, (int(m[0]), int(m[1]))
 
 
 def _orbit_dataset(scene, log, stop, n_corner, final, cell, start):
