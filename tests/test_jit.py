@@ -20,3 +20,32 @@ def test_kernels_run_without_the_reference_counting_runtime():
 
     with pytest.raises(TypingError):
         jit(cache=False)(allocates)(3)
+
+
+_CACHE_KEY = """
+import hashlib
+from numba.core.serialize import dumps
+from noslipsim.core.batch import batch_kernels
+from noslipsim.core.loop import kernel_flags
+for flags in [kernel_flags(True, True, True, 0), kernel_flags(False, False, False, 1), kernel_flags(False, True, True, 2, True)]:
+    run_batch, run_batch_serial = batch_kernels(flags)
+    one = run_batch.py_func.__closure__[0].cell_contents  # the per-orbit step, around the orbit kernel
+    for kernel in (run_batch, one):
+        cells = tuple(c.cell_contents for c in kernel.py_func.__closure__)
+        print(hashlib.sha256(dumps(cells)).hexdigest())
+"""
+
+
+def test_kernels_built_around_kernels_have_the_same_cache_key_in_every_process():
+    """numba keys a closure's cache entry on its pickled cells; a cell holding a kernel must pickle alike.
+
+    Otherwise every new process (each Snakemake job, each dask worker) misses
+    the on-disk cache of the batch loops, recompiles them and adds an entry.
+    """
+    import subprocess
+    import sys
+
+    keys = [subprocess.run([sys.executable, "-c", _CACHE_KEY], capture_output=True, text=True, check=True).stdout
+            for _ in range(2)]
+    assert keys[0] == keys[1]
+    assert len(set(keys[0].split())) == 6  # and the three variants, at both levels, stay apart

@@ -13,6 +13,7 @@ decrement.  Measured on the event loop: 2 to 5 times faster on plain scenes
 running unsafely.  ``NOSLIPSIM_NUMBA_NRT=1`` compiles with the runtime, uncached
 (so the on-disk cache never mixes the two), for ``benchmarks/bench_runtime.py``.
 """
+import hashlib
 import os
 
 from numba import njit, prange  # noqa: F401  (prange re-exported for kernels)
@@ -22,9 +23,36 @@ if os.environ.get("NOSLIPSIM_NUMBA_NRT") == "1":
     _OPTIONS.update(cache=False, _nrt=True)
 
 
+def _stable_uuid(func):
+    """A name for the dispatcher of ``func`` that is the same in every process.
+
+    numba keys the on-disk cache of a closure on the pickled contents of its
+    cells; a cell holding another kernel pickles that kernel's dispatcher,
+    whose identity is a random UUID drawn once per process.  A kernel built
+    around another one (the batch loops around an orbit variant) then missed
+    the cache in every new process and wrote a new entry each time.  Naming
+    each dispatcher by its function and the values its closure captures makes
+    the pickle, hence the cache key, reproducible.
+    """
+    cells = func.__closure__ or ()
+    captured = []
+    for cell in cells:
+        value = cell.cell_contents
+        uuid = getattr(value, "_uuid", None)  # another kernel: its own stable name
+        captured.append(uuid if isinstance(uuid, str) else repr(value))
+    key = "|".join([func.__module__, func.__qualname__, *captured])
+    return "noslipsim-" + hashlib.sha256(key.encode()).hexdigest()
+
+
+def _compile(func, options):
+    dispatcher = njit(**options)(func)
+    dispatcher._set_uuid(_stable_uuid(func))
+    return dispatcher
+
+
 def jit(func=None, **overrides):
     """Compile ``func`` with the project's options (decorator, with or without arguments)."""
     options = dict(_OPTIONS, **overrides)
     if func is None:
-        return lambda f: njit(**options)(f)
-    return njit(**options)(func)
+        return lambda f: _compile(f, options)
+    return _compile(func, options)
