@@ -49,3 +49,41 @@ def test_kernels_built_around_kernels_have_the_same_cache_key_in_every_process()
             for _ in range(2)]
     assert keys[0] == keys[1]
     assert len(set(keys[0].split())) == 6  # and the three variants, at both levels, stay apart
+
+
+def test_a_cache_write_waits_while_another_process_writes():
+    """numba's cache save is an unlocked read-modify-write of the index.
+
+    Two processes compiling two variants of one kernel at once could pick the
+    same data file, so that one variant's key loads the other's machine code
+    in every later process (seen: a no-slip batch kernel that ran the specular
+    law).  Each save now holds an exclusive lock beside the index: while
+    another holder has it, the save must not touch the index.
+    """
+    import fcntl
+    import os
+    import threading
+
+    from noslipsim.core.jit import CACHE_LOCK
+
+    def cached_twice(x):
+        return 2.0 * x
+
+    cache_file = jit(cached_twice)._cache._cache_file
+    lock_path = os.path.join(cache_file._cache_path, CACHE_LOCK)
+    key = ("a key no kernel has",)
+    saved = threading.Event()
+    worker = threading.Thread(target=lambda: (cache_file.save(key, [1.0, 2.0]), saved.set()))
+    try:
+        with open(lock_path, "a") as held:
+            fcntl.flock(held, fcntl.LOCK_EX)  # another process is writing
+            worker.start()
+            assert not saved.wait(0.5)
+            assert cache_file.load(key) is None
+        worker.join(30)
+        assert saved.is_set()
+        assert cache_file.load(key) == [1.0, 2.0]
+    finally:
+        for name in os.listdir(cache_file._cache_path):
+            if name.startswith(cache_file._index_name.rsplit(".", 1)[0]):
+                os.remove(os.path.join(cache_file._cache_path, name))

@@ -18,6 +18,14 @@ import os
 
 from numba import njit, prange  # noqa: F401  (prange re-exported for kernels)
 
+try:
+    import fcntl
+except ImportError:  # not POSIX: numba's own unlocked writes
+    fcntl = None
+
+#: The lock file, in each cache directory, that serialises writes to numba's cache index.
+CACHE_LOCK = "noslipsim-cache.lock"
+
 _OPTIONS = dict(cache=True, nogil=True, fastmath=False, error_model="numpy", _nrt=False)
 if os.environ.get("NOSLIPSIM_NUMBA_NRT") == "1":
     _OPTIONS.update(cache=False, _nrt=True)
@@ -44,9 +52,41 @@ def _stable_uuid(func):
     return "noslipsim-" + hashlib.sha256(key.encode()).hexdigest()
 
 
+def _lock_cache_writes(dispatcher):
+    """Make each write to the dispatcher's on-disk cache one step for other processes.
+
+    numba saves an entry by reading the index, choosing the first free data
+    file number, writing the index, then the data file, with no lock.  Two
+    processes compiling two variants of one kernel at once (two Snakemake
+    jobs, two dask workers) can both pick the same number: the index then
+    maps one variant's key to the other variant's machine code, and every
+    later process loads the wrong kernel without a word.  An exclusive
+    ``flock`` on a file beside the index makes the read-modify-write atomic.
+    Loads need no lock: numba replaces the index and data files atomically,
+    and an index entry whose data is not written yet reads as a miss.
+    """
+    cache_file = getattr(getattr(dispatcher, "_cache", None), "_cache_file", None)
+    if fcntl is None or cache_file is None:
+        return
+    save = cache_file.save
+    lock_path = os.path.join(cache_file._cache_path, CACHE_LOCK)
+
+    def locked_save(key, data):
+        try:
+            lock = open(lock_path, "a")
+        except OSError:  # a read-only cache directory: numba's save fails (quietly) anyway
+            return save(key, data)
+        with lock:  # released when the file closes
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            return save(key, data)
+
+    cache_file.save = locked_save
+
+
 def _compile(func, options):
     dispatcher = njit(**options)(func)
     dispatcher._set_uuid(_stable_uuid(func))
+    _lock_cache_writes(dispatcher)
     return dispatcher
 
 
