@@ -24,6 +24,8 @@ import math
 import numpy as np
 import xarray as xr
 
+from .._validate import finite_float, positive
+
 __all__ = ["arrival_curve"]
 
 #: Default number of points of the log-spaced time grid.
@@ -77,12 +79,7 @@ def _check_dataset(ds, max_time):
         if "max_time" not in ds.attrs:
             raise ValueError("max_time: the dataset has no 'max_time' attribute; pass max_time=")
         max_time = ds.attrs["max_time"]
-    try:
-        max_time = float(max_time)
-    except (TypeError, ValueError):
-        raise ValueError(f"max_time: expected a number, got {max_time!r}") from None
-    if not (math.isfinite(max_time) and max_time > 0.0):
-        raise ValueError(f"max_time: must be finite and > 0, got {max_time}")
+    max_time = positive(max_time, "max_time")
     values = t.values.astype(float)
     fin = np.isfinite(values)
     if np.isinf(values).any():
@@ -238,12 +235,9 @@ def arrival_curve(ds, *, times=None, n_times=N_TIMES, max_time=None, tail_span=T
     descent of the specular board).  Derivation: docs/analysis.md.
     """
     t, max_time = _check_dataset(ds, max_time)
-    try:
-        tail_span = float(tail_span)
-    except (TypeError, ValueError):
-        raise ValueError(f"tail_span: expected a number > 1, got {tail_span!r}") from None
-    if not (math.isfinite(tail_span) and tail_span > 1.0):
-        raise ValueError(f"tail_span: must be finite and > 1, got {tail_span}")
+    tail_span = finite_float(tail_span, "tail_span")
+    if not tail_span > 1.0:
+        raise ValueError(f"tail_span: must be > 1, got {tail_span}")
     values = t.values.astype(float)
     grid = _time_grid(values, times, n_times, max_time)
     n = values.shape[-1]

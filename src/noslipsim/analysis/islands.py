@@ -57,7 +57,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from .._validate import count
+from .._validate import count, positive
 from ..elements import Arc, Circle, Segment
 from ..ensemble import simulate_many
 from ..initial import rng_from
@@ -272,9 +272,7 @@ def regular_share(ftle, threshold=REGULAR_THRESHOLD, axis=-1):
     (share, stderr, n) : numpy arrays (or floats for 1-D input)
         ``p = k/n`` and ``sqrt(p (1 - p)/n)``, ``n`` the orbits with an exponent.
     """
-    threshold = float(threshold)
-    if not (math.isfinite(threshold) and threshold > 0.0):
-        raise ValueError(f"threshold: must be finite and > 0, got {threshold}")
+    threshold = positive(threshold, "threshold")
     lam = np.asarray(ftle, dtype=float)
     known = np.isfinite(lam)
     n = known.sum(axis=axis)

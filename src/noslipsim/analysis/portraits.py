@@ -51,6 +51,7 @@ import math
 import numpy as np
 import xarray as xr
 
+from .._validate import positive
 from ..elements import Arc, Circle, Line, Segment
 from ..scenes import Scene
 
@@ -373,13 +374,7 @@ def _locate(scene, s_boundary, elements):
 
 
 def _speed(value):
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"speed: expected a number > 0, got {value!r}") from None
-    if not (math.isfinite(v) and v > 0.0):
-        raise ValueError(f"speed: must be finite and > 0, got {v}")
-    return v
+    return positive(value, "speed")
 
 
 def birkhoff_states(scene, s_boundary, sin_angle, *, elements=None, speed=1.0):

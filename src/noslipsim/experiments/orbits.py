@@ -12,7 +12,7 @@ import numpy as np
 import xarray as xr
 
 from .. import tables
-from .._validate import count
+from .._validate import count, positive
 from ..analysis import find_periodic_orbit, monodromy, two_disk_orbit, wedge_orbit
 from ..sphere3d import simulate_sphere
 from ..theory import two_disk_eigen_sum
@@ -295,9 +295,7 @@ def bounce_orbits(cases=({"vx": 0.5, "u": 1.0, "spin_ratio": 1.0}, {"vx": 0.5, "
     gamma = float(gamma)
     if not (math.isfinite(gamma) and gamma > 0.0):
         raise ValueError(f"gamma: must be finite and > 0 (the spin is r v_x / gamma), got {gamma}")
-    g = float(gravity)
-    if not (math.isfinite(g) and g > 0.0):
-        raise ValueError(f"gravity: must be finite and > 0, got {gravity}")
+    g = positive(gravity, "gravity")
     cases = list(cases)
     if not cases:
         raise ValueError("cases: expected at least one case")
