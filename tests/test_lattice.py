@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from noslipsim import Circle, Scene, Segment, simulate, tables
+from noslipsim import Circle, Scene, Segment, simulate, simulate_many, tables
 from noslipsim.lattice import cell_of, reaching_copies
 
 
@@ -233,3 +233,16 @@ def test_straight_grid_walk_matches_strip_walk(scene):
             assert straight[0] == pytest.approx(twin[0], rel=1e-12, abs=1e-12), (x, y, vx, vy)
             checked += 1
     assert checked > 2000
+
+
+def test_a_start_beyond_exact_cell_indices_is_refused_by_name():
+    """Past 2**52 cells the cell index and origin are not exact (past 2**63 the int64 cast is garbage)."""
+    scene = tables.sinai_torus(0.25)
+    far = (2.0 ** 53, 0.3)
+    with pytest.raises(ValueError, match=r"^position: .*2\*\*52 cells"):
+        simulate(scene, far, (1.0, 0.2), 0.0, max_collisions=3)
+    with pytest.raises(ValueError, match=r"^positions: "):
+        simulate_many(scene, [(0.4, 0.4), (1e300, 0.3)], [(1.0, 0.2)] * 2, [0.0, 0.0], max_collisions=3,
+                      scheduler="sync")
+    near = simulate(scene, (2.0 ** 40, 0.3), (1.0, 0.2), 0.0, max_collisions=3)
+    assert int(near.n_collisions) == 3 and float(near.x_final) > 2.0 ** 40

@@ -82,7 +82,7 @@ def check_starts(scene: Scene, positions, velocities, spins, start_elements=None
             raise ValueError(f"velocities: orbit {int(np.argmax(still))} has zero speed with zero force")
     inside = on < 0
     if inside.any():
-        rel = q[inside] - (cell_origin(cell_of(q[inside], scene.lattice), scene.lattice)
+        rel = q[inside] - (cell_origin(cell_of(q[inside], scene.lattice, "positions"), scene.lattice)
                            if scene.lattice is not None else 0.0)
         margin = START_MARGIN * np.maximum(scene.scale, np.abs(rel).max(axis=1))
         depth = scene.depth(q[inside])

@@ -85,17 +85,29 @@ def _point_segment(c, a, b):
     return float(np.hypot(*(c - a - s * ab)))
 
 
-def cell_of(points, lattice):
+#: The largest cell index (per basis vector) a lattice position may have: cell indices and the
+#: origins ``n1 a1 + n2 a2`` are exact up to here, and an int64 holds them.
+MAX_CELL_INDEX = 2.0 ** 52
+
+
+def cell_of(points, lattice, field="position"):
     """Integer cell indices ``(n1, n2)`` of points (nearest lattice site).
 
     Elementwise arithmetic (not a matrix product, whose rounding depends on the
     batch shape), so a point gets the same cell alone or in an ensemble.
+    A point more than :data:`MAX_CELL_INDEX` cells from the origin (or not
+    finite) raises ``ValueError`` naming ``field``.
     """
     _, B = lattice_matrix(lattice)
     p = np.asarray(points, float)
     x, y = p[..., 0], p[..., 1]
-    return np.stack([np.rint(B[0, 0] * x + B[0, 1] * y), np.rint(B[1, 0] * x + B[1, 1] * y)],
-                    axis=-1).astype(np.int64)
+    cells = np.stack([np.rint(B[0, 0] * x + B[0, 1] * y), np.rint(B[1, 0] * x + B[1, 1] * y)], axis=-1)
+    if not np.all(np.abs(cells) <= MAX_CELL_INDEX):  # NaN fails too
+        worst = p.reshape(-1, 2)[np.argmax(np.nan_to_num(np.abs(cells), nan=np.inf).reshape(-1, 2).max(axis=1))]
+        raise ValueError(f"{field}: {tuple(float(c) for c in worst)} lies more than 2**52 cells from the "
+                         "origin; a lattice position must be finite and within 2**52 cells, where cell "
+                         "indices and cell origins are exact")
+    return cells.astype(np.int64)
 
 
 def cell_origin(cells, lattice):
