@@ -18,13 +18,6 @@ from noslipsim.elements import Arc, Circle, Line, Segment  # noqa: E402
 from noslipsim.plot.numbers import check_record  # noqa: E402
 
 
-@pytest.fixture
-def ax():
-    fig, ax = plt.subplots()
-    yield ax
-    plt.close(fig)
-
-
 def every_kind():
     """A scene with one element of every kind (a box with a scatterer, an arc cap and a container)."""
     return ns.Scene((Line((0.0, 0.0), (0.0, 1.0)),

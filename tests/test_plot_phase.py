@@ -12,13 +12,6 @@ from noslipsim import plot  # noqa: E402
 from noslipsim.plot.phase import SEA_COLOR  # noqa: E402
 
 
-@pytest.fixture
-def ax():
-    fig, ax = plt.subplots()
-    yield ax
-    plt.close(fig)
-
-
 def portrait(n_orbits=4, n_points=10, seed=0):
     """A synthetic portrait case: points on the unit disk, the last two points of orbit 0 padding."""
     rng = np.random.default_rng(seed)

@@ -22,9 +22,8 @@ from __future__ import annotations
 import numpy as np
 from matplotlib import colormaps
 from matplotlib.colors import to_rgba
-from matplotlib.patches import Circle as CirclePatch
 
-from .portraits import portrait_points
+from .portraits import portrait_points, velocity_disk_axes
 
 #: Colour of the chaotic sea.
 SEA_COLOR = "0.72"
@@ -89,7 +88,7 @@ def draw_layered_portrait(ax, portrait, regular=None, *, size=0.3, sea_size=None
     """
     flags = _regular(portrait, regular)
     vt, w, orbit = portrait_points(portrait)
-    ax.add_patch(CirclePatch((0.0, 0.0), 1.0, fill=False, edgecolor="0.3", linewidth=0.6, zorder=4))
+    velocity_disk_axes(ax, 4)
     out = {"sea": None, "regular": None}
     if flags is None:
         coloured = np.ones(orbit.size, bool)
@@ -107,11 +106,6 @@ def draw_layered_portrait(ax, portrait, regular=None, *, size=0.3, sea_size=None
     if coloured.any():
         out["regular"] = ax.scatter(vt[coloured], w[coloured], s=size, c=colors[rank[coloured]], linewidths=0,
                                     rasterized=rasterized, zorder=3)
-    ax.set_xlim(-1.05, 1.05)
-    ax.set_ylim(-1.05, 1.05)
-    ax.set_aspect("equal")
-    ax.set_xlabel(r"$v_t$")
-    ax.set_ylabel(r"$w$")
     return out
 
 

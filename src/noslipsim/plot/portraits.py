@@ -66,15 +66,21 @@ def draw_portrait(ax, portrait, *, color=None, cmap="tab20", size=0.3, rasterize
     matplotlib.collections.PathCollection
     """
     vt, w, orbit = portrait_points(portrait)
-    ax.add_patch(CirclePatch((0.0, 0.0), 1.0, fill=False, edgecolor="0.3", linewidth=0.6, zorder=zorder + 1))
+    velocity_disk_axes(ax, zorder + 1)
     if color is None:
         pts = ax.scatter(vt, w, c=orbit % 20 if cmap == "tab20" else orbit, cmap=cmap, s=size, linewidths=0,
                          rasterized=rasterized, zorder=zorder, vmin=0, vmax=19 if cmap == "tab20" else None)
     else:
         pts = ax.scatter(vt, w, color=color, s=size, linewidths=0, rasterized=rasterized, zorder=zorder)
+    return pts
+
+
+def velocity_disk_axes(ax, zorder):
+    """The axes of a velocity portrait: the unit circle ``v_t^2 + w^2 = 1`` (at ``zorder``), square limits just
+    outside it, labels ``v_t`` and ``w``."""
+    ax.add_patch(CirclePatch((0.0, 0.0), 1.0, fill=False, edgecolor="0.3", linewidth=0.6, zorder=zorder))
     ax.set_xlim(-1.05, 1.05)
     ax.set_ylim(-1.05, 1.05)
     ax.set_aspect("equal")
     ax.set_xlabel(r"$v_t$")
     ax.set_ylabel(r"$w$")
-    return pts
