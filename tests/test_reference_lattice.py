@@ -300,7 +300,6 @@ def mid_flight_twins(scene, flt, kw):
         for name, value in largest_deviation(ref, one, scales, 1).items():
             assert value <= TOL, f"flight {k}: {name} off by {value:.3g} of its scale"
             worst[name] = max(worst[name], value)
-    assert k == m - 2, f"checked {k + 2} of {m} collisions"  # every collision but the budget's last
     return worst
 
 
