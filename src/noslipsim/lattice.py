@@ -85,6 +85,33 @@ def _point_segment(c, a, b):
     return float(np.hypot(*(c - a - s * ab)))
 
 
+def disks_apart(disks, lattice, gap):
+    """Whether every two disks of the periodic scene, lattice copies included, are more than ``gap`` apart.
+
+    ``disks``: ``(center, radius)`` pairs.  Disk ``i`` and the copy of disk
+    ``j`` translated by ``n1 a1 + n2 a2`` (``n != 0`` when ``i == j``) are
+    apart when their centres are more than ``r_i + r_j + gap`` apart; the
+    translations that could bring them closer lie within ``|B| (r_i + r_j + gap)``
+    (in lattice coordinates) of ``B (c_i - c_j)``, and all of them are checked.
+    """
+    A, B = lattice_matrix(lattice)
+    norm_b = float(np.linalg.norm(B, 2))
+    for i, (ci, ri) in enumerate(disks):
+        for j in range(i, len(disks)):
+            cj, rj = disks[j]
+            reach = ri + rj + gap
+            d = np.asarray(ci, float) - np.asarray(cj, float)
+            centre = B @ d
+            span = norm_b * reach
+            for n1 in range(math.floor(centre[0] - span), math.ceil(centre[0] + span) + 1):
+                for n2 in range(math.floor(centre[1] - span), math.ceil(centre[1] + span) + 1):
+                    if i == j and n1 == 0 and n2 == 0:
+                        continue
+                    if float(np.hypot(*(d - A @ np.array([n1, n2], float)))) <= reach:
+                        return False
+    return True
+
+
 def cell_of(points, lattice):
     """Integer cell indices ``(n1, n2)`` of points (nearest lattice site).
 
