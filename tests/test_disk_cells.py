@@ -84,7 +84,7 @@ def start_of(name):
     raise AssertionError(name)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def on_own_copy(name, law, e, o1, o2):
     """The kernel scene with element ``e`` moved by ``o1 a1 + o2 a2`` (the same billiard): its copy
     ``(e, 0, 0)`` is then the disk of that offset, so a restart can deflate it (``start_element``)."""
@@ -206,9 +206,9 @@ def stop_start(name, stop):
     scene = kernel_scene(name)
     q, v, kw = start_of(name), (0.83, 0.41), {}
     if stop == "max_time":
-        kw = dict(max_time=math.inf)
+        kw = {"max_time": math.inf}
     elif stop == "level":
-        v, kw = (0.3, -0.95), dict(level=q[1] - 0.05)  # crossed before any collision
+        v, kw = (0.3, -0.95), {"level": q[1] - 0.05}  # crossed before any collision
     elif stop == "escape":
         v = (1.0, 0.0)  # along a horizontal corridor, found below
         for y in np.linspace(-0.5, 0.5, 201):
@@ -219,8 +219,8 @@ def stop_start(name, stop):
             raise AssertionError(name)
     elif stop == "start_on_disk":
         e = scene.elements[-1]
-        q, v, kw = (e.center[0] + e.radius, e.center[1]), (0.6, 0.8), dict(start_element=len(scene.elements) - 1,
-                                                                          max_time=math.inf)
+        q, v, kw = (e.center[0] + e.radius, e.center[1]), (0.6, 0.8), {"start_element": len(scene.elements) - 1,
+                                                                          "max_time": math.inf}
     return q, v, kw
 
 

@@ -32,8 +32,6 @@ Measured on the Sinai torus: about twice the general loop's speed
 import functools
 import math
 
-import numpy as np
-
 from .geometry import lattice_coordinates, lattice_shift, nearest_cell
 from .jit import jit
 from .laws import collide
