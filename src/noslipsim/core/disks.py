@@ -1,13 +1,12 @@
-"""The event loop of one disk per lattice cell without force (Sinai torus, Lorentz gas).
+"""The event loop of disk scatterers on a lattice without force (Sinai torus, Lorentz gases).
 
 Such a scene needs far less than the general loop (:mod:`loop`): flights are
-straight and the obstacle is a convex disk inside its cell, so the disk just
-hit is not met on the next flight (no deflation), disks never touch (no
-corner rule), a collision never slides off (no grazing stop), there are no
-extents to test, and the first disk met along the cell walk is the hit.  The
-test and the collision take no ``hypot``, projection or division after the
-hit point is known (the chain of dependent operations from one collision to
-the next is what limits the speed):
+straight and the obstacles are convex disks that never touch, so the disk just
+hit is not met on the next flight (no deflation), there is no corner rule, a
+collision never slides off (no grazing stop), and there are no extents to
+test.  The test and the collision take no ``hypot``, projection or division
+after the hit point is known (the chain of dependent operations from one
+collision to the next is what limits the speed):
 
 * hit: with ``d = q - c`` and ``b = d . v``, the flight meets the disk iff
   ``b < 0`` and ``disc = |v|^2 r^2 - (d x v)^2 > 0`` (Lagrange's identity:
@@ -22,12 +21,22 @@ the next is what limits the speed):
 * specular: ``v' = v - 2 (v . h) h / |h|^2``, the reflection in the line
   through ``h``; no-slip: :func:`laws.collide` with ``n = -h/|h|``.
 
+Two walks.  One disk inside its cell (the Sinai torus, the Lorentz gas up to
+``r`` = half the cell's width: :attr:`noslipsim.Scene.one_disk_per_cell`):
+:func:`disk_walk` tests that disk in each cell and the first hit is the
+earliest.  Several disks per cell, or disks reaching into neighbouring cells
+(:attr:`noslipsim.Scene.disk_lattice`): :func:`disks_walk` tests every copy
+that reaches a cell and takes the earliest hit once it comes before the
+cell's exit (a hit on a copy from a neighbouring cell may lie beyond it; the
+hit point is then re-based onto the cell that holds it).
+
 A tangent flight (``disc = 0``) is no hit, as in the general loop.  The
 results differ from the general loop's in the last bits (the other variants
 of :func:`loop.orbit_kernel` are identical to it bit for bit): every flight
-agrees to rounding, stops and records included (``tests/test_disk_lattice.py``).
-Measured on the Sinai torus: about twice the general loop's speed
-(``benchmarks/RESULTS.md``).
+agrees to rounding, stops and records included (``tests/test_disk_lattice.py``,
+``tests/test_disk_cells.py``).  Measured: about twice the general loop's speed
+on the Sinai torus, 1.9 to 3 times on two- and five-disk cells
+(``benchmarks/results/ablation.md``).
 """
 import functools
 import math
@@ -228,12 +237,15 @@ def disks_walk(params, copies, inside, A, B, x, y, vx, vy, cur_e, cur_o1, cur_o2
 
 @functools.lru_cache(maxsize=None)
 def disk_lattice_kernel(spin=None, mode=None):
-    """The event loop for one disk per lattice cell without force, with :func:`loop.run_orbit`'s signature.
+    """The event loop for disk scatterers on a lattice without force, with :func:`loop.run_orbit`'s signature.
 
     ``spin`` and ``mode`` are compile-time flags as in :func:`loop.orbit_kernel`
     (``None``: read the law or the record mode from the arguments).  Only
-    for scenes with :attr:`noslipsim.Scene.one_disk_per_cell`; the
-    force, ``kinds``, ``lattice`` and junction arguments are ignored.
+    for scenes with :attr:`noslipsim.Scene.disk_lattice` (disjoint disks);
+    the force, ``kinds``, ``lattice`` and junction arguments are ignored.  A
+    scene of one copy with no shift (one disk inside its cell) runs
+    :func:`disk_walk`, any other :func:`disks_walk` (a run-time branch per
+    flight, always taken the same way).
     """
     SPIN_RT = spin is None
     SPIN = bool(spin)
@@ -243,7 +255,7 @@ def disk_lattice_kernel(spin=None, mode=None):
     @jit
     def run_disk_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, x, y, vx, vy, w,
                        max_collisions, max_time, stop_below, scale, mode, rec, mask, start_element=-1):
-        """:func:`loop.run_orbit` for one disk per lattice cell without force (same arguments and outputs)."""
+        """:func:`loop.run_orbit` for disks on a lattice without force (same arguments and outputs)."""
         law = law if SPIN_RT else (NOSLIP if SPIN else SPECULAR)
         mode = mode if MODE_RT else MODE
         # every disk inside its cell (no copy shifted): a hit point lies in the cell where it is found
