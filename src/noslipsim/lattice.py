@@ -90,25 +90,27 @@ def disks_apart(disks, lattice, gap):
 
     ``disks``: ``(center, radius)`` pairs.  Disk ``i`` and the copy of disk
     ``j`` translated by ``n1 a1 + n2 a2`` (``n != 0`` when ``i == j``) are
-    apart when their centres are more than ``r_i + r_j + gap`` apart; the
-    translations that could bring them closer lie within ``|B| (r_i + r_j + gap)``
-    (in lattice coordinates) of ``B (c_i - c_j)``, and all of them are checked.
+    apart when their centres are more than ``r_i + r_j + gap`` apart.  Each
+    centre is first moved by a lattice vector into cell 0 (a symmetry of the
+    periodic scene), so the translations that could bring two disks closer lie
+    within ``1 + |B| (r_i + r_j + gap)`` in lattice coordinates, and all of
+    them are checked, for all pairs at once.
     """
     A, B = lattice_matrix(lattice)
-    norm_b = float(np.linalg.norm(B, 2))
-    for i, (ci, ri) in enumerate(disks):
-        for j in range(i, len(disks)):
-            cj, rj = disks[j]
-            reach = ri + rj + gap
-            d = np.asarray(ci, float) - np.asarray(cj, float)
-            centre = B @ d
-            span = norm_b * reach
-            for n1 in range(math.floor(centre[0] - span), math.ceil(centre[0] + span) + 1):
-                for n2 in range(math.floor(centre[1] - span), math.ceil(centre[1] + span) + 1):
-                    if i == j and n1 == 0 and n2 == 0:
-                        continue
-                    if float(np.hypot(*(d - A @ np.array([n1, n2], float)))) <= reach:
-                        return False
+    centres = np.array([c for c, _ in disks], float).reshape(-1, 2)
+    radii = np.array([r for _, r in disks], float)
+    centres = centres - np.rint(centres @ B.T) @ A.T
+    reach = radii[:, None] + radii[None, :] + gap
+    span = math.ceil(1.0 + float(np.linalg.norm(B, 2)) * float(reach.max()))
+    diff = centres[:, None, :] - centres[None, :, :]
+    for n1 in range(-span, span + 1):
+        for n2 in range(-span, span + 1):
+            d = diff - A @ np.array([n1, n2], float)
+            close = np.hypot(d[..., 0], d[..., 1]) <= reach
+            if n1 == 0 and n2 == 0:
+                np.fill_diagonal(close, False)
+            if close.any():
+                return False
     return True
 
 
