@@ -127,12 +127,13 @@ def test_dispatch_takes_disjoint_disks_without_force():
     Scene((Circle((0.25, 0.25), 0.2), Circle((0.5, 0.5), 0.2)), lattice=SQUARE),  # two disks overlap
     Scene((Circle((0.25, 0.25), 0.25), Circle((0.75, 0.25), 0.25)), lattice=SQUARE),  # touching
     Scene((Circle((0.25, 0.0), 0.25), Circle((0.75, 0.0), 0.25 - 1e-12)), lattice=SQUARE),  # within the gap
+    Scene((Circle((0.25, 0.25), 0.25), Circle((100.75, -30.25), 0.25)), lattice=SQUARE),  # touching, written apart
     Scene((Circle((0.0, 0.0), 0.5),), lattice=SQUARE),  # a disk touching its own copies
     Scene((Circle((0.0, 0.0), 0.2), Circle((0.5, 0.5), 0.1)), lattice=SQUARE, force=(0.0, -1.0)),  # force
     Scene((Circle((0.0, 0.0), 0.2), Segment((0.3, 0.3), (0.4, 0.4))), lattice=SQUARE),  # not only disks
     Scene((Circle((0.0, 0.0), 0.2), Circle((0.0, 0.0), 0.45, "inside")), lattice=SQUARE),  # a container
     Scene((Circle((0.0, 0.0), 0.2), Circle((0.5, 0.5), 0.1))),  # no lattice
-], ids=["overlap", "touch", "within gap", "own copies touch", "force", "segment", "container", "plain"])
+], ids=["overlap", "touch", "within gap", "touch, written apart", "own copies touch", "force", "segment", "container", "plain"])
 def test_dispatch_refuses_what_the_lean_loop_cannot_run(scene):
     assert scene.disk_lattice is False
     assert canonical_form(scene).scene.kernel_variant(LOG)[4] is False
