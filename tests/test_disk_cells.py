@@ -127,7 +127,7 @@ def test_dispatch_takes_disjoint_disks_without_force():
     Scene((Circle((0.25, 0.25), 0.2), Circle((0.5, 0.5), 0.2)), lattice=SQUARE),  # two disks overlap
     Scene((Circle((0.25, 0.25), 0.25), Circle((0.75, 0.25), 0.25)), lattice=SQUARE),  # touching
     Scene((Circle((0.25, 0.0), 0.25), Circle((0.75, 0.0), 0.25 - 1e-12)), lattice=SQUARE),  # within the gap
-    Scene((Circle((0.25, 0.25), 0.25), Circle((100.75, -30.25), 0.25)), lattice=SQUARE),  # touching, written apart
+    Scene((Circle((0.25, 0.25), 0.25), Circle((100.75, -29.75), 0.25)), lattice=SQUARE),  # touching, written apart
     Scene((Circle((0.0, 0.0), 0.5),), lattice=SQUARE),  # a disk touching its own copies
     Scene((Circle((0.0, 0.0), 0.2), Circle((0.5, 0.5), 0.1)), lattice=SQUARE, force=(0.0, -1.0)),  # force
     Scene((Circle((0.0, 0.0), 0.2), Segment((0.3, 0.3), (0.4, 0.4))), lattice=SQUARE),  # not only disks
