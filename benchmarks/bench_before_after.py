@@ -97,6 +97,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--before", required=True, help="folder holding the package noslipsim_before")
     ap.add_argument("--rounds", type=int, default=7)
+    ap.add_argument("--only", default="", help="run the cases whose name contains this text")
     args = ap.parse_args()
     sys.path.insert(0, os.path.abspath(args.before))
     old = importlib.import_module("noslipsim_before")
@@ -106,6 +107,8 @@ def main():
     print(f"before: {old.__file__}\nnew:    {new.__file__}\nload at start: {os.getloadavg()}")
     print(f"{'case':<38}{'before coll/s':>15}{'new coll/s':>15}{'new/before median':>19}{'range':>14}")
     for name, (make, *spec) in CASES.items():
+        if args.only not in name:
+            continue
         runs = {"before": make(old, *spec), "new": make(new, *spec)}
         best = dict.fromkeys(runs, 0.0)
         ratios = []

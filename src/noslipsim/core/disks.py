@@ -156,7 +156,7 @@ def disks_walk(params, copies, inside, A, B, x, y, vx, vy, cur_e, cur_o1, cur_o2
     soon as it comes before the cell's exit: any earlier hit lies in a cell
     already walked, where the same copy was tested.  When every disk lies
     inside its cell (``inside``) every hit found comes before the exit, and
-    the first one is taken as it is found.  Along the first
+    the earliest of the first cell with a hit is taken at once.  Along the first
     ``INCREMENTAL_CELLS`` cells the offset ``d`` from the cell's centre is
     updated by one lattice vector per step (each step rounds once); later
     cells form it from the cell indices, so its error stays within a few
@@ -243,27 +243,47 @@ def disk_lattice_kernel(spin=None, mode=None):
     (``None``: read the law or the record mode from the arguments).  Only
     for scenes with :attr:`noslipsim.Scene.disk_lattice` (disjoint disks);
     the force, ``kinds``, ``lattice`` and junction arguments are ignored.  A
-    scene of one copy with no shift (one disk inside its cell) runs
-    :func:`disk_walk`, any other :func:`disks_walk` (a run-time branch per
-    flight, always taken the same way).
+    scene of one copy with no shift (one disk inside its cell) runs a loop
+    compiled around :func:`disk_walk`, any other one around :func:`disks_walk`
+    (chosen once per orbit, so the one-disk loop carries no test for the other).
     """
-    SPIN_RT = spin is None
-    SPIN = bool(spin)
-    MODE_RT = mode is None
-    MODE = RECORD_LOG if mode is None else int(mode)
+    one_disk = _disk_loop(spin, mode, True)
+    several = _disk_loop(spin, mode, False)
 
     @jit
     def run_disk_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, x, y, vx, vy, w,
                        max_collisions, max_time, stop_below, scale, mode, rec, mask, start_element=-1):
         """:func:`loop.run_orbit` for disks on a lattice without force (same arguments and outputs)."""
-        law = law if SPIN_RT else (NOSLIP if SPIN else SPECULAR)
-        mode = mode if MODE_RT else MODE
         # every disk inside its cell (no copy shifted): a hit point lies in the cell where it is found
         inside = True
         for j in range(copies.shape[0]):
             inside = inside and copies[j, 1] == 0 and copies[j, 2] == 0
-        # one disk inside its cell (the Sinai torus, the Lorentz gas): the walk without the copy loop
-        one = copies.shape[0] == 1 and inside
+        # one disk inside its cell (the Sinai torus, the Lorentz gas): the loop without the copy loop
+        if copies.shape[0] == 1 and inside:
+            return one_disk(params, copies, A, B, law, c, s, x, y, vx, vy, w, max_collisions, max_time,
+                            stop_below, mode, rec, mask, start_element, True)
+        return several(params, copies, A, B, law, c, s, x, y, vx, vy, w, max_collisions, max_time, stop_below,
+                       mode, rec, mask, start_element, inside)
+
+    return run_disk_orbit
+
+
+@functools.lru_cache(maxsize=None)
+def _disk_loop(spin, mode, one):
+    """The loop of :func:`disk_lattice_kernel` for one disk inside its cell (``one``: :func:`disk_walk`,
+    compiled without the copy loop) or for any disks (:func:`disks_walk`)."""
+    SPIN_RT = spin is None
+    SPIN = bool(spin)
+    MODE_RT = mode is None
+    MODE = RECORD_LOG if mode is None else int(mode)
+    ONE = bool(one)
+
+    @jit
+    def disk_loop(params, copies, A, B, law, c, s, x, y, vx, vy, w, max_collisions, max_time, stop_below, mode,
+                  rec, mask, start_element, inside):
+        """The event loop proper (``inside``: no copy shifted)."""
+        law = law if SPIN_RT else (NOSLIP if SPIN else SPECULAR)
+        mode = mode if MODE_RT else MODE
         # 1/r of the first disk once (the only one of a Sinai torus); of another disk at its hit
         e0 = copies[0, 0]
         ir0 = 1.0 / params[e0, 2]
@@ -285,7 +305,7 @@ def disk_lattice_kernel(spin=None, mode=None):
                 oy = lattice_shift(A, m1, m2)[1]
                 t_level = linear_exit(y + oy - stop_below, vy, INF)
             limit = min(remaining, t_level)
-            if one:
+            if ONE:
                 t_hit, o1, o2, hx, hy, status = disk_walk(params[e0], A, B, x, y, vx, vy, cur_o1, cur_o2, limit,
                                                           MAX_CELLS_PER_FLIGHT)
                 j = 0
@@ -313,7 +333,7 @@ def disk_lattice_kernel(spin=None, mode=None):
             ir = ir0
             cur_o1 = 0
             cur_o2 = 0
-            if not one:
+            if not ONE:
                 e = copies[j, 0]
                 ir = 1.0 / params[e, 2]
                 cur_o1 = copies[j, 1]
@@ -322,7 +342,7 @@ def disk_lattice_kernel(spin=None, mode=None):
             ir2 = ir * ir
             x = p[0] + hx
             y = p[1] + hy
-            if not inside:  # a disk reaching into other cells: re-base onto the cell that holds the hit point
+            if not ONE and not inside:  # a disk reaching into other cells: re-base onto the cell that holds the hit point
                 if cur_o1 != 0 or cur_o2 != 0:
                     sx, sy = lattice_shift(A, cur_o1, cur_o2)
                     x += sx
@@ -376,4 +396,4 @@ def disk_lattice_kernel(spin=None, mode=None):
         m2 += k2
         return n, stop, 0, n_rec, t, x + ox, y + oy, vx, vy, w, m1, m2
 
-    return run_disk_orbit
+    return disk_loop
