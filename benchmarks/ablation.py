@@ -21,6 +21,11 @@ Sections:
 * one disk per cell: the lean loop of ``core/disks.py`` (``disks=True``) vs
   the lattice variant of the general loop on the Sinai torus; other formulas,
   so checked per flight to 1e-12 (as in ``tests/test_disk_lattice.py``);
+* several disks per cell: the same lean loop (its copy loop, ``disks_walk``) vs
+  the lattice variant of the general loop on the kernels' (canonical) form of
+  two-disk cells, a scattered Lorentz gas of five disks of different radii per
+  cell and the hexagonal cell at r = 0.45 (one disk reaching into its
+  neighbours); checked per flight to 1e-12 (as in ``tests/test_disk_cells.py``);
 * neighbour-cell lookup: Sinai torus r = 0.25 as a lattice vs the same disks
   written out as a 61 x 61 block of explicit ``Circle`` copies (no enclosing box:
   the explicit orbit is timed until it escapes the block).  Positions are
@@ -32,8 +37,11 @@ Sections:
   lattice state after each of the first 1000 collisions and must hit the same
   disk (element + cell) at the same time and place to 1e-9.
 
-Run: ``python benchmarks/ablation.py`` (writes ``benchmarks/results/ablation.md`` too).
+Run: ``python benchmarks/ablation.py`` (writes ``benchmarks/results/ablation.md`` too);
+``python benchmarks/ablation.py --only "several disks per cell"`` runs one section and
+replaces only its rows in the written table.
 """
+import argparse
 import datetime
 import math
 import os
@@ -44,8 +52,10 @@ import time
 import numpy as np
 
 from noslipsim import Circle, Scene, tables
+from noslipsim.canonical import canonical_form
 from noslipsim.core import layout
 from noslipsim.core.loop import orbit_kernel
+from noslipsim.lattice import lattice_matrix
 from noslipsim.simulate import start_cell
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -62,6 +72,16 @@ SINAI_BOX = tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)])
 CIRCLE_G = Scene([Circle((0.0, 0.0), 1.0, "inside")], force=(0.0, -1.0))
 GALTON = tables.galton_board(2.0, 0.5, 1.0)
 TORUS = tables.sinai_torus(0.25)
+SQUARE = {"a1": [1.0, 0.0], "a2": [0.0, 1.0]}
+SEVERAL_DISKS = {  # name -> scene as a user writes it (the kernels run its canonical form)
+    "2 disks per cell": Scene((Circle((0.25, 0.25), 0.2), Circle((0.75, 0.75), 0.15)), lattice=SQUARE),
+    "2 disks per cell, one reaching out": Scene((Circle((0.1, 0.5), 0.3), Circle((0.62, 0.5), 0.15)),
+                                                lattice=SQUARE),
+    "5 disks of different radii per cell": Scene(tuple(Circle((x, y), r) for x, y, r in (
+        (0.1, 0.1, 0.08), (0.5, 0.2, 0.12), (0.3, 0.6, 0.1), (0.75, 0.7, 0.15), (0.85, 0.3, 0.06))),
+        lattice=SQUARE),
+    "hexagonal cell r=0.45 (reaches 4 neighbours)": tables.hex_lorentz_cell(0.45),
+}
 
 STARTS = {  # scene name -> start (q, v, w)
     "pentagon": ((0.1, 0.05), (0.83, 0.41), 0.1),
@@ -267,7 +287,119 @@ def disk_cells(rows, law, n_check=1000):
     print(fmt_row(rows[-1]), flush=True)
 
 
+def inside_start(scene):
+    """A start strictly inside the table of ``scene`` (relative to cell 0)."""
+    for q in ((0.45, 0.1), (0.0, 0.45), (0.45, -0.3), (-0.3, 0.45), (0.02, -0.45)):
+        if scene.depth(np.array([q]))[0] > 1e-3:
+            return q
+    raise ValueError("no start found")
+
+
+def _on_own_copy(scene, e, o1, o2, cache={}):  # noqa: B006 (a cache per scene and copy)
+    """``scene`` with element ``e`` moved by ``o1 a1 + o2 a2`` (the same billiard), so that its copy
+    ``(e, 0, 0)`` is the disk of that offset and a restart can deflate it (``start_element``)."""
+    if o1 == 0 and o2 == 0:
+        return scene
+    key = (id(scene), e, o1, o2)
+    if key not in cache:
+        A, _ = lattice_matrix(scene.lattice)
+        elements = list(scene.elements)
+        elements[e] = elements[e].shifted(*(A @ np.array([o1, o2], float)))
+        cache[key] = (scene, scene.replace(elements=tuple(elements)))
+    return cache[key][1]
+
+
+def _disk_offset(scene, e, q):
+    """Lattice offset of the copy of disk ``e`` on which the point ``q`` (relative to its cell) lies."""
+    A, _ = lattice_matrix(scene.lattice)
+    d = np.asarray(q) - np.asarray(scene.elements[e].center)
+    cands = [(o1, o2) for o1 in range(-2, 3) for o2 in range(-2, 3)]
+    dist = [abs(float(np.hypot(*(d - A @ np.array(o, float)))) - scene.elements[e].radius) for o in cands]
+    return cands[int(np.argmin(dist))]
+
+
+def several_disks(rows, name, law, n_check=1000):
+    """The lean loop on several disks per cell vs the lattice variant of the general loop.
+
+    Per flight as :func:`disk_cells`: both loops restarted on the disk just hit
+    (the scene rewritten so that this disk is the element's own copy), from the
+    general loop's state after each of the first ``n_check`` collisions, must hit
+    the same disk in the same cell at the same time and place to 1e-12.
+    """
+    scene = canonical_form(SEVERAL_DISKS[name].replace(law=law)).scene
+    flags = scene.kernel_variant(NONE)
+    assert flags[4] is True
+    q = inside_start(scene)
+    orbit = Orbit(scene, q, (0.83, 0.41), 0.1)
+    (rate_g, rate_l), _ = timed(orbit, [(orbit_kernel(*flags[:4]), NONE), (orbit_kernel(*flags), NONE)])
+    log = np.zeros((n_check + 1, layout.N_LOG))
+    general_log = orbit_kernel(*scene.kernel_variant(LOG)[:4])
+    lean_log = orbit_kernel(*scene.kernel_variant(LOG))
+    orbit.run(general_log, n_check + 1, LOG, log)
+    one_g = np.zeros((1, layout.N_LOG))
+    one_l = np.zeros((1, layout.N_LOG))
+    A, _ = lattice_matrix(scene.lattice)
+    agree = 0
+    worst = 0.0
+    for k in range(n_check):
+        a = log[k]
+        cell = np.array([a[layout.LOG_CELL_A1], a[layout.LOG_CELL_A2]])
+        p = np.array([a[layout.LOG_X], a[layout.LOG_Y]]) - A @ cell
+        e = int(a[layout.LOG_ELEMENT])
+        twin = _on_own_copy(scene, e, *_disk_offset(scene, e, p))
+        start = Orbit(twin, p, (a[layout.LOG_VX], a[layout.LOG_VY]), a[layout.LOG_W])
+        one_g[:] = 0.0
+        one_l[:] = 0.0
+        out_g = start.run(general_log, 1, LOG, one_g, start_element=e)
+        out_l = start.run(lean_log, 1, LOG, one_l, start_element=e)
+        cols = (layout.LOG_T, layout.LOG_X, layout.LOG_Y, layout.LOG_VX, layout.LOG_VY, layout.LOG_W)
+        dev = max(abs(one_l[0, c] - one_g[0, c]) for c in cols) / max(1.0, one_g[0, layout.LOG_T])
+        same = (out_l[:2] == out_g[:2] and out_l[10:] == out_g[10:]
+                and one_l[0, layout.LOG_ELEMENT] == one_g[0, layout.LOG_ELEMENT])
+        agree += same and dev <= 1e-12
+        worst = max(worst, dev)
+    n_disks = len(scene.elements)
+    copies = len(scene.kernel_inputs()[2])
+    rows.append(("several disks per cell", f"{name} ({n_disks} disks, {copies} copies reach a cell), {law}",
+                 label(flags[:4]), label(flags), rate_g, rate_l,
+                 f"per flight: {agree}/{n_check} agree (max dev {worst:.1e})"))
+    print(fmt_row(rows[-1]), flush=True)
+
+
+SEVERAL_NOTE = ("Several-disks rows (`--only \"several disks per cell\"`, {when}): the lean loop with its copy "
+                "loop (core/disks.py `disks_walk`) vs the lattice variant of the general loop on the kernels' "
+                "(canonical) form of the scene; start {start}, velocity (0.83, 0.41); per flight: both loops "
+                "restarted on the disk just hit from the general loop's state after each of the first 1000 "
+                "collisions, same disk, cell, time, position, velocity and spin within 1e-12 (relative to the "
+                "flight time when it exceeds 1). Load: {load}.")
+
+
+def update_section(section, rows, note):
+    """Replace the rows of ``section`` in the written table (appending them if new) and its note."""
+    with open(OUT, encoding="utf-8") as fh:
+        lines = fh.read().rstrip("\n").split("\n")
+    lines = [ln for ln in lines if not ln.startswith(f"| {section} |") and not ln.startswith(note[:40])]
+    table_end = max(i for i, ln in enumerate(lines) if ln.startswith("|"))
+    lines[table_end + 1:table_end + 1] = [fmt_row(r) for r in rows]
+    lines += ["", note]
+    with open(OUT, "w", encoding="utf-8") as fh:
+        fh.write("\n".join(lines) + "\n")
+
+
 def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--only", choices=["several disks per cell"], help="run one section, replace its rows")
+    args = ap.parse_args()
+    if args.only:
+        rows = []
+        for name in SEVERAL_DISKS:
+            for law in ("specular", "no-slip"):
+                several_disks(rows, name, law)
+        when = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
+        load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
+        update_section(args.only, rows, SEVERAL_NOTE.format(when=when, start="inside the cell", load=load))
+        print(f"\nrows of '{args.only}' written to {os.path.relpath(OUT)}")
+        return
     machine = (f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python "
                f"{platform.python_version()} | numpy {np.__version__}")
     print(machine)
@@ -307,6 +439,9 @@ def main():
         neighbour_cells(rows, law)
     for law in ("no-slip", "specular"):
         disk_cells(rows, law)
+    for name in SEVERAL_DISKS:
+        for law in ("specular", "no-slip"):
+            several_disks(rows, name, law)
 
     when = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
     with open(OUT, "w", encoding="utf-8") as fh:

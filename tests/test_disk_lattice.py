@@ -48,14 +48,18 @@ def run(kernel, scene, q, v, w, n, mode=LOG, max_time=math.inf, level=-math.inf,
     return out, rec
 
 
-def test_dispatch_only_for_one_disk_per_cell_without_force():
+def test_dispatch_only_for_disks_without_force():
     lean = disk_lattice_kernel(True, LOG)
-    assert orbit_kernel(*tables.sinai_torus(0.25).kernel_variant(LOG)) is lean
-    assert orbit_kernel(*tables.hex_lorentz_cell(0.3).kernel_variant(LOG)) is lean
-    for scene in (tables.hex_lorentz_cell(0.45),  # the disk reaches into neighbouring cells
-                  tables.sinai_torus(0.25, force=(0.0, -1.0)), tables.galton_board(),
+    for scene in (tables.sinai_torus(0.25), tables.hex_lorentz_cell(0.3)):
+        assert scene.one_disk_per_cell and scene.disk_lattice
+        assert orbit_kernel(*scene.kernel_variant(LOG)) is lean
+    # the disk reaches into neighbouring cells: the lean loop with its copy loop (tests/test_disk_cells.py)
+    hex45 = tables.hex_lorentz_cell(0.45)
+    assert hex45.disk_lattice and not hex45.one_disk_per_cell
+    assert orbit_kernel(*hex45.kernel_variant(LOG)) is lean
+    for scene in (tables.sinai_torus(0.25, force=(0.0, -1.0)), tables.galton_board(),
                   tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)])):
-        assert scene.one_disk_per_cell is False
+        assert scene.one_disk_per_cell is False and scene.disk_lattice is False
         assert orbit_kernel(*scene.kernel_variant(LOG)) is not lean
 
 

@@ -85,6 +85,35 @@ def _point_segment(c, a, b):
     return float(np.hypot(*(c - a - s * ab)))
 
 
+def disks_apart(disks, lattice, gap):
+    """Whether every two disks of the periodic scene, lattice copies included, are more than ``gap`` apart.
+
+    ``disks``: ``(center, radius)`` pairs.  Disk ``i`` and the copy of disk
+    ``j`` translated by ``n1 a1 + n2 a2`` (``n != 0`` when ``i == j``) are
+    apart when their centres are more than ``r_i + r_j + gap`` apart.  Each
+    centre is first moved by a lattice vector into cell 0 (a symmetry of the
+    periodic scene), so the translations that could bring two disks closer lie
+    within ``1 + |B| (r_i + r_j + gap)`` in lattice coordinates, and all of
+    them are checked, for all pairs at once.
+    """
+    A, B = lattice_matrix(lattice)
+    centres = np.array([c for c, _ in disks], float).reshape(-1, 2)
+    radii = np.array([r for _, r in disks], float)
+    centres = centres - np.rint(centres @ B.T) @ A.T
+    reach = radii[:, None] + radii[None, :] + gap
+    span = math.ceil(1.0 + float(np.linalg.norm(B, 2)) * float(reach.max()))
+    diff = centres[:, None, :] - centres[None, :, :]
+    for n1 in range(-span, span + 1):
+        for n2 in range(-span, span + 1):
+            d = diff - A @ np.array([n1, n2], float)
+            close = np.hypot(d[..., 0], d[..., 1]) <= reach
+            if n1 == 0 and n2 == 0:
+                np.fill_diagonal(close, False)
+            if close.any():
+                return False
+    return True
+
+
 #: The largest cell index (per basis vector) a lattice position may have: cell indices and the
 #: origins ``n1 a1 + n2 a2`` are exact up to here, and an int64 holds them.
 MAX_CELL_INDEX = 2.0 ** 52

@@ -27,7 +27,7 @@ from .core import layout
 from .core.laws import noslip_coefficients
 from .core.loop import kernel_flags
 from .elements import Arc, Circle, Line, Segment, element_from_dict
-from .lattice import cell_of, lattice_matrix, reaching_copies
+from .lattice import cell_of, disks_apart, lattice_matrix, reaching_copies
 
 LAWS = {"no-slip": layout.NOSLIP, "noslip": layout.NOSLIP, "specular": layout.SPECULAR}
 _SCENE_KEYS = {"law", "gamma", "force", "elements", "lattice"}
@@ -44,6 +44,11 @@ def _law_name(law):
 #: scene pairs them up (junctions), so an ill-posed lattice (``a1`` and ``a2`` nearly
 #: parallel, or elements spanning many cells) is refused instead of hanging.
 MAX_LATTICE_COPIES = 1000
+
+#: Disks of a lattice run the lean loop (:attr:`Scene.disk_lattice`) when no two come within
+#: this gap, relative to the cell's size: far outside the corner rule's contact band
+#: (``CONTACT_TOL``), so the general loop could never treat two of them as touching.
+DISK_GAP = 1e-9
 
 
 def _check_copies(elements, lattice):
@@ -220,15 +225,37 @@ class Scene:
         ``mode = RECORD_NONE`` for the recorder.
         """
         return kernel_flags(self.force != (0.0, 0.0), self.law_code == layout.NOSLIP,
-                            self.lattice is not None, mode, self.one_disk_per_cell)
+                            self.lattice is not None, mode, self.disk_lattice)
+
+    @property
+    def disk_lattice(self):
+        """True for a lattice of disjoint disk scatterers without force (Sinai torus, Lorentz gases).
+
+        One or several disks per cell, of any radii, each inside its cell or
+        reaching into neighbouring ones; no two disks (lattice copies included)
+        come within ``DISK_GAP`` of each other (relative to the cell's size).
+        Such a scene runs the lean loop of :mod:`noslipsim.core.disks`: its
+        disks are convex and never touch, so it needs no deflation, corner rule
+        or extent test.
+        """
+        if self.lattice is None or self.force != (0.0, 0.0):
+            return False
+        if not all(isinstance(e, Circle) and e.side == "outside" for e in self.elements):
+            return False
+        cached = self.__dict__.get("_disk_lattice")
+        if cached is None:
+            A, _ = lattice_matrix(self.lattice)
+            size = max(self.scale, float(np.abs(A).sum(axis=1).max()))
+            cached = disks_apart([(e.center, e.radius) for e in self.elements], self.lattice, DISK_GAP * size)
+            object.__setattr__(self, "_disk_lattice", cached)
+        return cached
 
     @property
     def one_disk_per_cell(self):
         """True for a lattice of one disk scatterer inside each cell, without force (Sinai torus, Lorentz gas).
 
-        Such a scene runs the lean loop of :mod:`noslipsim.core.disks`: its disks
-        are convex, lie inside their cells and never touch, so it needs no
-        deflation, corner rule or extent test.
+        The special case of :attr:`disk_lattice` whose lean loop needs no copy
+        loop (:func:`noslipsim.core.disks.disk_walk`).
         """
         if self.lattice is None or self.force != (0.0, 0.0) or len(self.elements) != 1:
             return False

@@ -1,13 +1,12 @@
-"""The event loop of one disk per lattice cell without force (Sinai torus, Lorentz gas).
+"""The event loop of disk scatterers on a lattice without force (Sinai torus, Lorentz gases).
 
 Such a scene needs far less than the general loop (:mod:`loop`): flights are
-straight and the obstacle is a convex disk inside its cell, so the disk just
-hit is not met on the next flight (no deflation), disks never touch (no
-corner rule), a collision never slides off (no grazing stop), there are no
-extents to test, and the first disk met along the cell walk is the hit.  The
-test and the collision take no ``hypot``, projection or division after the
-hit point is known (the chain of dependent operations from one collision to
-the next is what limits the speed):
+straight and the obstacles are convex disks that never touch, so the disk just
+hit is not met on the next flight (no deflation), there is no corner rule, a
+collision never slides off (no grazing stop), and there are no extents to
+test.  The test and the collision take no ``hypot``, projection or division
+after the hit point is known (the chain of dependent operations from one
+collision to the next is what limits the speed):
 
 * hit: with ``d = q - c`` and ``b = d . v``, the flight meets the disk iff
   ``b < 0`` and ``disc = |v|^2 r^2 - (d x v)^2 > 0`` (Lagrange's identity:
@@ -22,12 +21,22 @@ the next is what limits the speed):
 * specular: ``v' = v - 2 (v . h) h / |h|^2``, the reflection in the line
   through ``h``; no-slip: :func:`laws.collide` with ``n = -h/|h|``.
 
+Two walks.  One disk inside its cell (the Sinai torus, the Lorentz gas up to
+``r`` = half the cell's width: :attr:`noslipsim.Scene.one_disk_per_cell`):
+:func:`disk_walk` tests that disk in each cell and the first hit is the
+earliest.  Several disks per cell, or disks reaching into neighbouring cells
+(:attr:`noslipsim.Scene.disk_lattice`): :func:`disks_walk` tests every copy
+that reaches a cell and takes the earliest hit once it comes before the
+cell's exit (a hit on a copy from a neighbouring cell may lie beyond it; the
+hit point is then re-based onto the cell that holds it).
+
 A tangent flight (``disc = 0``) is no hit, as in the general loop.  The
 results differ from the general loop's in the last bits (the other variants
 of :func:`loop.orbit_kernel` are identical to it bit for bit): every flight
-agrees to rounding, stops and records included (``tests/test_disk_lattice.py``).
-Measured on the Sinai torus: about twice the general loop's speed
-(``benchmarks/RESULTS.md``).
+agrees to rounding, stops and records included (``tests/test_disk_lattice.py``,
+``tests/test_disk_cells.py``).  Measured: about twice the general loop's speed
+on the Sinai torus, 1.9 to 3 times on two- and five-disk cells
+(``benchmarks/results/ablation.md``).
 """
 import functools
 import math
@@ -134,32 +143,153 @@ def disk_walk(p, A, B, x, y, vx, vy, cur_o1, cur_o2, t_limit, max_cells):
     return INF, 0, 0, 0.0, 0.0, 2
 
 
+@jit(inline="always")
+def disks_walk(params, copies, inside, A, B, x, y, vx, vy, cur_e, cur_o1, cur_o2, t_limit, max_cells):
+    """First disk hit of the straight flight from ``(x, y)`` (relative to cell 0).
+
+    Walks the cells as :func:`cells.walk_hit` does (face times from the
+    flight's start, here times the reciprocal rate) and tests in each cell the
+    disk copies that reach it (``copies``: element ``e`` of ``params``
+    translated by ``o1 a1 + o2 a2``) but the one just hit (element
+    ``cur_e`` of cell ``(cur_o1, cur_o2)``: a straight flight leaving a convex
+    disk does not meet it again).  The earliest hit of a cell is the hit as
+    soon as it comes before the cell's exit: any earlier hit lies in a cell
+    already walked, where the same copy was tested.  When every disk lies
+    inside its cell (``inside``) every hit found comes before the exit, and
+    the earliest of the first cell with a hit is taken at once.  Along the first
+    ``INCREMENTAL_CELLS`` cells the offset ``d`` from the cell's centre is
+    updated by one lattice vector per step (each step rounds once); later
+    cells form it from the cell indices, so its error stays within a few
+    rounding errors of the direct form's however long the flight.
+
+    Returns ``(t, o1, o2, j, hx, hy, status)``: the walk cell where the hit was
+    found, the copy ``j`` hit, the hit point relative to the copy's centre, and
+    ``status`` as in :func:`cells.walk_hit` (0 hit, 1 past ``t_limit``, 2 past
+    ``max_cells``).
+    """
+    a0, b0 = lattice_coordinates(B, x, y)
+    a1, b1 = lattice_coordinates(B, vx, vy)
+    vv = vx * vx + vy * vy
+    ivv = 1.0 / vv
+    s1 = 1 if a1 > 0.0 else -1
+    s2 = 1 if b1 > 0.0 else -1
+    ia = 1.0 / a1
+    ib = 1.0 / b1
+    ta = max((0.5 * s1 - a0) * ia, 0.0) if a1 != 0.0 else INF
+    tb = max((0.5 * s2 - b0) * ib, 0.0) if b1 != 0.0 else INF
+    ux = s1 * A[0, 0]
+    uy = s1 * A[1, 0]
+    wx = s2 * A[0, 1]
+    wy = s2 * A[1, 1]
+    dx = x
+    dy = y
+    d1 = 0
+    d2 = 0
+    best = INF
+    bj = -1
+    b1_ = 0
+    b2_ = 0
+    bx = 0.0
+    by = 0.0
+    for k in range(max_cells):
+        if k >= INCREMENTAL_CELLS:
+            sx, sy = lattice_shift(A, d1, d2)
+            dx = x - sx
+            dy = y - sy
+        for j in range(copies.shape[0]):
+            e = copies[j, 0]
+            o1 = copies[j, 1]
+            o2 = copies[j, 2]
+            if e == cur_e and d1 + o1 == cur_o1 and d2 + o2 == cur_o2:
+                continue
+            p = params[e]
+            ex = dx - p[0]
+            ey = dy - p[1]
+            if o1 != 0 or o2 != 0:
+                sx, sy = lattice_shift(A, o1, o2)
+                ex -= sx
+                ey -= sy
+            t, hx, hy = _line_disk(ex, ey, vx, vy, ivv, vv * (p[2] * p[2]))
+            if t < best:
+                best = t
+                bj = j
+                b1_ = d1
+                b2_ = d2
+                bx = hx
+                by = hy
+        t_out = min(ta, tb)
+        if best <= t_out or (inside and best < INF):
+            return best, b1_, b2_, bj, bx, by, 0
+        if t_out >= t_limit:
+            return INF, 0, 0, -1, 0.0, 0.0, 1
+        if ta == t_out:
+            d1 += s1
+            dx -= ux
+            dy -= uy
+            ta = max((d1 + 0.5 * s1 - a0) * ia, t_out)
+        if tb == t_out:
+            d2 += s2
+            dx -= wx
+            dy -= wy
+            tb = max((d2 + 0.5 * s2 - b0) * ib, t_out)
+    return INF, 0, 0, -1, 0.0, 0.0, 2
+
+
 @functools.lru_cache(maxsize=None)
 def disk_lattice_kernel(spin=None, mode=None):
-    """The event loop for one disk per lattice cell without force, with :func:`loop.run_orbit`'s signature.
+    """The event loop for disk scatterers on a lattice without force, with :func:`loop.run_orbit`'s signature.
 
     ``spin`` and ``mode`` are compile-time flags as in :func:`loop.orbit_kernel`
     (``None``: read the law or the record mode from the arguments).  Only
-    for scenes with :attr:`noslipsim.Scene.one_disk_per_cell`; the
-    force, ``kinds``, ``lattice`` and junction arguments are ignored.
+    for scenes with :attr:`noslipsim.Scene.disk_lattice` (disjoint disks);
+    the force, ``kinds``, ``lattice`` and junction arguments are ignored.  A
+    scene of one copy with no shift (one disk inside its cell) runs a loop
+    compiled around :func:`disk_walk`, any other one around :func:`disks_walk`
+    (chosen once per orbit, so the one-disk loop carries no test for the other).
     """
-    SPIN_RT = spin is None
-    SPIN = bool(spin)
-    MODE_RT = mode is None
-    MODE = RECORD_LOG if mode is None else int(mode)
+    one_disk = _disk_loop(spin, mode, True)
+    several = _disk_loop(spin, mode, False)
 
     @jit
     def run_disk_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, x, y, vx, vy, w,
                        max_collisions, max_time, stop_below, scale, mode, rec, mask, start_element=-1):
-        """:func:`loop.run_orbit` for one disk per lattice cell without force (same arguments and outputs)."""
+        """:func:`loop.run_orbit` for disks on a lattice without force (same arguments and outputs)."""
+        # every disk inside its cell (no copy shifted): a hit point lies in the cell where it is found
+        inside = True
+        for j in range(copies.shape[0]):
+            inside = inside and copies[j, 1] == 0 and copies[j, 2] == 0
+        # one disk inside its cell (the Sinai torus, the Lorentz gas): the loop without the copy loop
+        if copies.shape[0] == 1 and inside:
+            return one_disk(params, copies, A, B, law, c, s, x, y, vx, vy, w, max_collisions, max_time,
+                            stop_below, mode, rec, mask, start_element, True)
+        return several(params, copies, A, B, law, c, s, x, y, vx, vy, w, max_collisions, max_time, stop_below,
+                       mode, rec, mask, start_element, inside)
+
+    return run_disk_orbit
+
+
+@functools.lru_cache(maxsize=None)
+def _disk_loop(spin, mode, one):
+    """The loop of :func:`disk_lattice_kernel` for one disk inside its cell (``one``: :func:`disk_walk`,
+    compiled without the copy loop) or for any disks (:func:`disks_walk`)."""
+    SPIN_RT = spin is None
+    SPIN = bool(spin)
+    MODE_RT = mode is None
+    MODE = RECORD_LOG if mode is None else int(mode)
+    ONE = bool(one)
+
+    @jit
+    def disk_loop(params, copies, A, B, law, c, s, x, y, vx, vy, w, max_collisions, max_time, stop_below, mode,
+                  rec, mask, start_element, inside):
+        """The event loop proper (``inside``: no copy shifted)."""
         law = law if SPIN_RT else (NOSLIP if SPIN else SPECULAR)
         mode = mode if MODE_RT else MODE
-        e = copies[0, 0]
-        p = params[e]
-        ir = 1.0 / p[2]
-        ir2 = ir * ir
+        # 1/r of the first disk once (the only one of a Sinai torus); of another disk at its hit
+        e0 = copies[0, 0]
+        ir0 = 1.0 / params[e0, 2]
         t = 0.0
-        # the cell whose disk the flight leaves (none at a start inside the table)
+        # the disk the flight leaves: element cur_e of cell (cur_o1, cur_o2) (none at a start inside the table)
+        cur_e = start_element
         cur_o1 = 0 if start_element >= 0 else NO_CELL
         cur_o2 = 0
         m1 = 0
@@ -175,8 +305,13 @@ def disk_lattice_kernel(spin=None, mode=None):
                 oy = lattice_shift(A, m1, m2)[1]
                 t_level = linear_exit(y + oy - stop_below, vy, INF)
             limit = min(remaining, t_level)
-            t_hit, o1, o2, hx, hy, status = disk_walk(p, A, B, x, y, vx, vy, cur_o1, cur_o2, limit,
-                                                      MAX_CELLS_PER_FLIGHT)
+            if ONE:
+                t_hit, o1, o2, hx, hy, status = disk_walk(params[e0], A, B, x, y, vx, vy, cur_o1, cur_o2, limit,
+                                                          MAX_CELLS_PER_FLIGHT)
+                j = 0
+            else:
+                t_hit, o1, o2, j, hx, hy, status = disks_walk(params, copies, inside, A, B, x, y, vx, vy, cur_e,
+                                                              cur_o1, cur_o2, limit, MAX_CELLS_PER_FLIGHT)
             if t_level < INF and t_level <= t_hit and t_level <= remaining:
                 x = x + t_level * vx
                 y = stop_below - oy
@@ -192,9 +327,36 @@ def disk_lattice_kernel(spin=None, mode=None):
                 t = max_time
                 stop = STOP_MAX_TIME
                 break
-            # the disk lies inside its cell: the particle is now in cell (o1, o2), at c + h
+            # the particle is now at c + h, relative to walk cell (o1, o2), on the disk of element e
+            # in cell (o1 + cur_o1, o2 + cur_o2)
+            e = e0
+            ir = ir0
+            cur_o1 = 0
+            cur_o2 = 0
+            if not ONE:
+                e = copies[j, 0]
+                ir = 1.0 / params[e, 2]
+                cur_o1 = copies[j, 1]
+                cur_o2 = copies[j, 2]
+            p = params[e]
+            ir2 = ir * ir
             x = p[0] + hx
             y = p[1] + hy
+            if not ONE and not inside:  # a disk reaching into other cells: re-base onto the cell that holds the hit point
+                if cur_o1 != 0 or cur_o2 != 0:
+                    sx, sy = lattice_shift(A, cur_o1, cur_o2)
+                    x += sx
+                    y += sy
+                k1, k2 = nearest_cell(B, x, y)
+                if k1 != 0 or k2 != 0:
+                    sx, sy = lattice_shift(A, k1, k2)
+                    x -= sx
+                    y -= sy
+                    o1 += k1
+                    o2 += k2
+                    cur_o1 -= k1
+                    cur_o2 -= k2
+            cur_e = e
             m1 += o1
             m2 += o2
             vx_in = vx
@@ -221,10 +383,12 @@ def disk_lattice_kernel(spin=None, mode=None):
             n += 1
             if mode != RECORD_NONE:
                 ox, oy = lattice_shift(A, m1, m2)
+                sx = 0.0
+                sy = 0.0
+                if cur_o1 != 0 or cur_o2 != 0:
+                    sx, sy = lattice_shift(A, cur_o1, cur_o2)
                 n_rec = record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w, vx_in, vy_in, w_in,
-                               CIRCLE, p, 0.0, 0.0, e, 0.0, nx, ny)
-            cur_o1 = 0
-            cur_o2 = 0
+                               CIRCLE, p, sx, sy, e, 0.0, nx, ny)
         ox, oy = lattice_shift(A, m1, m2)
         # the final state may lie in another cell (a stop in mid-flight)
         k1, k2 = nearest_cell(B, x, y)
@@ -232,4 +396,4 @@ def disk_lattice_kernel(spin=None, mode=None):
         m2 += k2
         return n, stop, 0, n_rec, t, x + ox, y + oy, vx, vy, w, m1, m2
 
-    return run_disk_orbit
+    return disk_loop

@@ -86,8 +86,9 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None):
     floating-point operations on the scenes it serves, so results are
     identical to the general path's, bit for bit.
 
-    ``disks=True`` (one disk per lattice cell, no force: the Sinai torus and
-    the Lorentz gas) selects another loop, :func:`disks.disk_lattice_kernel`,
+    ``disks=True`` (disjoint disks on a lattice, no force: the Sinai torus,
+    the Lorentz gas with one or several disks per cell) selects another loop,
+    :func:`disks.disk_lattice_kernel`,
     with the same arguments and outputs; it skips what such a scene cannot
     need and agrees with the general path to rounding, not bit for bit.
     """
