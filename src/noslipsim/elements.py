@@ -139,7 +139,11 @@ class Segment:
 
     def params(self):
         ux, uy, nx, ny, L = self._frame()
-        return [self.p0[0], self.p0[1], nx, ny, ux, uy, L]
+        sgn = 1.0 if self.side == "left" else -1.0
+        row = [self.p0[0], self.p0[1], nx, ny, ux, uy, L] + [0.0] * (layout.N_PARAMS - 7)
+        row[layout.SEG_CROSS_SCALE] = -sgn / L
+        row[layout.SEG_P1X], row[layout.SEG_P1Y] = self.p1
+        return row
 
     def size(self):
         return max(abs(c) for c in (*self.p0, *self.p1))

@@ -19,6 +19,7 @@ from .geometry import (
     distance_rate,
     element_box,
     extent_position,
+    line_value,
     signed_distance,
 )
 from .jit import jit
@@ -90,7 +91,7 @@ def straight_hit_time(kind, p, x, y, vx, vy, deflate, hi, extent_tol):
         c1 = vx * p[2] + vy * p[3]
         if not c1 < 0.0:
             return INF
-        t = linear_exit((x - p[0]) * p[2] + (y - p[1]) * p[3], c1, hi)
+        t = linear_exit(line_value(kind, p, x, y), c1, hi)
     else:
         dx = x - p[0]
         dy = y - p[1]

@@ -12,10 +12,48 @@ import math
 
 import numpy as np
 
+from .exact import cross_dd, shifted_dot, two_sum
 from .jit import jit
-from .layout import ARC, CIRCLE, END_END, END_START, LINE, SEGMENT
+from .layout import (
+    ARC, CIRCLE, END_END, END_START, LINE, SEG_CROSS_SCALE, SEG_P1X, SEG_P1Y, SEGMENT,
+)
 
 TWO_PI = 2.0 * math.pi
+
+#: A line's value ``(q - p) . n`` is taken as formed when its two terms sum to at most
+#: this many times its size (its relative error, normal's rounding included, is then a
+#: few times ``LINE_GATE eps``); otherwise it cancelled (a point far along a long wall
+#: from ``p``) and is formed again from the exact geometry, to a few ulps of itself.
+LINE_GATE = 16.0
+
+
+@jit(inline="always")
+def line_value(kind, p, x, y):
+    """Signed distance ``(q - p) . n_in`` of ``q = (x, y)`` from a line or segment (``p`` its row).
+
+    Measured from ``p`` (a segment's ``p0``) with the rounded unit normal, the
+    plain form carries ``eps |q - p|``: a hit 10^6 along a wall from its start
+    would be off by 10^-10.  Where it cancels, a segment's distance is formed
+    again as ``-side ((q - p0) x (p1 - p0)) / L`` (``side`` +1 for a table on
+    the left) with both differences and the cross product exact to ``eps^2``
+    (:mod:`exact`): the line through the segment's
+    own float end points, to a few ulps of the distance wherever ``q`` lies
+    along it.  A line's normal is the float unit pair the scene stores, so
+    :func:`exact.shifted_dot` suffices.  Ordinary points (no cancellation)
+    take the plain form, bit for bit as before.
+    """
+    a = (x - p[0]) * p[2]
+    b = (y - p[1]) * p[3]
+    d = a + b
+    if abs(a) + abs(b) <= LINE_GATE * abs(d):
+        return d
+    if kind == SEGMENT:
+        fx, fxl = two_sum(x, -p[0])
+        fy, fyl = two_sum(y, -p[1])
+        ex, exl = two_sum(p[SEG_P1X], -p[0])
+        ey, eyl = two_sum(p[SEG_P1Y], -p[1])
+        return (cross_dd(fx, fxl, fy, fyl, ex, ey) + (fx * eyl - fy * exl)) * p[SEG_CROSS_SCALE]
+    return shifted_dot(x, y, p[0], p[1], p[2], p[3])
 
 
 @jit
@@ -68,7 +106,7 @@ def crossing_coefficients(kind, p, x, y, vx, vy, ax, ay):
     if kind == LINE or kind == SEGMENT:
         nx = p[2]
         ny = p[3]
-        c0 = (x - p[0]) * nx + (y - p[1]) * ny
+        c0 = line_value(kind, p, x, y)
         return c0, crossing_slope(kind, p, x, y, vx, vy), 0.5 * (ax * nx + ay * ny), 0.0, 0.0
     sig = p[3]
     dx = x - p[0]
@@ -86,7 +124,7 @@ def crossing_coefficients(kind, p, x, y, vx, vy, ax, ay):
 def signed_distance(kind, p, x, y):
     """Distance to the element's supporting line or circle, positive on the table side."""
     if kind == LINE or kind == SEGMENT:
-        return (x - p[0]) * p[2] + (y - p[1]) * p[3]
+        return line_value(kind, p, x, y)
     return p[3] * (math.hypot(x - p[0], y - p[1]) - p[2])
 
 
@@ -169,7 +207,7 @@ def place_on_element(kind, p, x, y):
     if kind == LINE or kind == SEGMENT:
         nx = p[2]
         ny = p[3]
-        d = (x - p[0]) * nx + (y - p[1]) * ny
+        d = line_value(kind, p, x, y)
         return x - d * nx, y - d * ny, -nx, -ny
     dx = x - p[0]
     dy = y - p[1]
