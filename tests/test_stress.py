@@ -862,9 +862,11 @@ def assert_corridor_precision(r):
 #: Formerly a known failure: the hit point after a long lattice flight was ``d + v t`` with ``|d|``
 #: the flight's length, so it carried eps x (flight length) and the outgoing velocity eps L / r (566x
 #: the tolerance at 6.7e6 cells).  The lean loop now forms the far disk's offset exactly and the hit
-#: point from the compensated cross product (core/disks.py ``_line_disk_far``, core/exact.py).
-CORRIDOR_NOTE = ("far cells of a flight: exact lattice offset and compensated d x v, so the hit point "
-                 "carries a few ulps of r whatever the flight's length")
+#: point from the compensated cross product (core/disks.py ``_line_disk_far``, core/exact.py); the
+#: general loop relocates a hit 16 or more cells away from a compensated flight point, moved along the
+#: flight to the element's root nearest to it (core/cells.py ``far_hit_point``).
+CORRIDOR_NOTE = ("far cells of a flight: exact lattice offset and compensated arithmetic, so the hit point "
+                 "carries a few ulps of the element's size whatever the flight's length")
 
 
 CHANNEL_ANGLES = (1e-6, 1e-8, 1e-10)
@@ -915,6 +917,18 @@ def test_corridor_hit_precision_short():
     assert_corridor_precision(corridor_run(1e-6, "specular", n=1))
 
 
+def general_loop_only(monkeypatch):
+    """Run lattice scenes through the general loop (``core/loop.py``), not the lean disk loop."""
+    monkeypatch.setattr(Scene, "one_disk_per_cell", property(lambda self: False))
+    assert not tables.sinai_torus(0.1).kernel_variant(1)[4]
+
+
+def test_corridor_hit_precision_general_loop_short(monkeypatch):
+    """The same flight through the general lattice loop (scenes off the lean path, e.g. several elements)."""
+    general_loop_only(monkeypatch)
+    assert_corridor_precision(corridor_run(1e-6, "specular", n=1))
+
+
 @pytest.mark.stress
 @pytest.mark.parametrize("lattice", ["square", "hex"])
 @pytest.mark.parametrize("slope", CORRIDOR_SLOPES)
@@ -926,9 +940,12 @@ def test_corridor_stress(lattice, slope, law):
 
 
 @pytest.mark.stress
+@pytest.mark.parametrize("loop", ["lean", "general"])
 @pytest.mark.parametrize("lattice", ["square", "hex"])
 @pytest.mark.parametrize("slope", CORRIDOR_SLOPES)
-def test_corridor_hit_precision_stress(lattice, slope):
+def test_corridor_hit_precision_stress(lattice, slope, loop, monkeypatch):
+    if loop == "general":
+        general_loop_only(monkeypatch)
     # measured (error / tolerance): <= 0.011 square, <= 0.033 hex, 2.2e3 to 6.7e6 cells
     # (before the compensated far-cell test: 5x to 566x from ~10^3 cells on)
     assert_corridor_precision(corridor_run(slope, "specular", lattice=lattice, n=1))

@@ -22,7 +22,7 @@ time is a running sum.
 import functools
 import math
 
-from .cells import walk_hit
+from .cells import FAR_CELLS, far_hit_point, walk_hit
 from .disks import disk_lattice_kernel
 from .events import advance, hit_in_cell, leaves_through_contact, slides_off
 from .geometry import copy_shift, lattice_shift, nearest_cell, place_on_element
@@ -205,7 +205,11 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None):
             kind = kinds[e]
             p = params[e]
             sx, sy = copy_shift(A, o1, o2, lattice)
-            px, py, nx, ny = place_on_element(kind, p, hx - sx, hy - sy)
+            rx = hx - sx
+            ry = hy - sy
+            if lattice and not has_force and max(abs(o1), abs(o2)) >= FAR_CELLS:  # eps x flight length
+                rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
+            px, py, nx, ny = place_on_element(kind, p, rx, ry)
             x = px + sx
             y = py + sy
             if lattice:  # re-base onto the cell that now holds the particle
