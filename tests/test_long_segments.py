@@ -3,9 +3,9 @@
 A segment's crossing value ``(q - p0) . n`` measured from its start ``p0`` with the
 rounded unit normal carried ``eps |q - p0|``: a hit 1e6 along a wall was off by about
 1e-10 in distance, so the flight time by up to 1e-10 relative and, under a force, the
-impact velocity by about as much.  Where that form cancels, the distance is now formed
-from the segment's own end points with compensated arithmetic
-(:func:`noslipsim.core.geometry.line_value`).
+impact velocity by about as much.  Where that form cancels, the hit on the element hit is
+now redone with the distance formed from the segment's own end points in compensated
+arithmetic (:func:`noslipsim.core.events.exact_line_hit`).
 
 The table is a parallelogram of width 1 whose long sides (length 1e6) are tilted by
 0.3 rad, so neither component of their normals is zero; it is placed with the bottom
@@ -45,7 +45,7 @@ FORCES = {"none": (0.0, 0.0), "onto_wall": tuple(-0.5 * N + 0.01 * U)}
 STEP_TOL = 1e-13
 #: The state's rounding: each coordinate of a relocated point is rounded to half an ulp
 #: and the projection rounds once more, so it lies off a tilted wall by up to about
-#: ``2 eps max(|x|, |y|)`` (measured: errors <= 0.2 of this bound).
+#: ``2 eps max(|x|, |y|)`` (measured: errors <= 0.22 of this bound).
 REPR_ULPS = 2.0
 COLLISIONS = 12
 

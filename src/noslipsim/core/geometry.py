@@ -21,13 +21,16 @@ from .layout import (
 TWO_PI = 2.0 * math.pi
 
 #: A line's value ``(q - p) . n`` is taken as formed when its two terms sum to at most
-#: this many times its size (its relative error, normal's rounding included, is then a
-#: few times ``LINE_GATE eps``); otherwise it cancelled (a point far along a long wall
-#: from ``p``) and is formed again from the exact geometry, to a few ulps of itself.
-LINE_GATE = 16.0
+#: this many times its size (its relative error, normal's rounding included, is then at
+#: most about ``3 LINE_GATE eps`` = 1.7e-13); otherwise it cancelled (a point far along a
+#: long wall from ``p``) and is formed again from the exact geometry, to a few ulps of
+#: itself.  Large enough that ordinary tables (a point near a wall, within a few wall
+#: lengths of its start) almost never take the exact path (measured: no bit changes on
+#: the pentagon and the Sinai box, benchmarks/results/ablation.md).
+LINE_GATE = 256.0
 
 
-@jit(inline="always")
+@jit
 def line_value(kind, p, x, y):
     """Signed distance ``(q - p) . n_in`` of ``q = (x, y)`` from a line or segment (``p`` its row).
 
@@ -40,13 +43,20 @@ def line_value(kind, p, x, y):
     own float end points, to a few ulps of the distance wherever ``q`` lies
     along it.  A line's normal is the float unit pair the scene stores, so
     :func:`exact.shifted_dot` suffices.  Ordinary points (no cancellation)
-    take the plain form, bit for bit as before.
+    take the plain form.  The hit search over all elements uses the plain form
+    only; :func:`events.exact_line_hit` redoes the hit on the element hit.
     """
     a = (x - p[0]) * p[2]
     b = (y - p[1]) * p[3]
     d = a + b
     if abs(a) + abs(b) <= LINE_GATE * abs(d):
         return d
+    return line_value_exact(kind, p, x, y)
+
+
+@jit
+def line_value_exact(kind, p, x, y):
+    """:func:`line_value` to a few ulps of itself, always (a call, so the common path stays small)."""
     if kind == SEGMENT:
         fx, fxl = two_sum(x, -p[0])
         fy, fyl = two_sum(y, -p[1])
@@ -106,7 +116,7 @@ def crossing_coefficients(kind, p, x, y, vx, vy, ax, ay):
     if kind == LINE or kind == SEGMENT:
         nx = p[2]
         ny = p[3]
-        c0 = line_value(kind, p, x, y)
+        c0 = (x - p[0]) * nx + (y - p[1]) * ny
         return c0, crossing_slope(kind, p, x, y, vx, vy), 0.5 * (ax * nx + ay * ny), 0.0, 0.0
     sig = p[3]
     dx = x - p[0]
@@ -124,7 +134,7 @@ def crossing_coefficients(kind, p, x, y, vx, vy, ax, ay):
 def signed_distance(kind, p, x, y):
     """Distance to the element's supporting line or circle, positive on the table side."""
     if kind == LINE or kind == SEGMENT:
-        return line_value(kind, p, x, y)
+        return (x - p[0]) * p[2] + (y - p[1]) * p[3]
     return p[3] * (math.hypot(x - p[0], y - p[1]) - p[2])
 
 
@@ -207,7 +217,7 @@ def place_on_element(kind, p, x, y):
     if kind == LINE or kind == SEGMENT:
         nx = p[2]
         ny = p[3]
-        d = line_value(kind, p, x, y)
+        d = (x - p[0]) * nx + (y - p[1]) * ny
         return x - d * nx, y - d * ny, -nx, -ny
     dx = x - p[0]
     dy = y - p[1]
