@@ -41,10 +41,16 @@ def _fma(typingctx, a, b, c):
     sig = types.float64(types.float64, types.float64, types.float64)
 
     def codegen(context, builder, signature, args):
-        x, y, z = (context.cast(builder, v, t, types.float64) for v, t in zip(args, signature.args))
+        x, y, z = (context.cast(builder, v, t, types.float64) for v, t in zip(args, signature.args, strict=True))
         return builder.fma(x, y, z)
 
     return sig, codegen
+
+
+# A name that is the same in every process, as core/jit.py gives every kernel: numba pickles
+# a kernel's globals into the cache key of kernels built around it, and an intrinsic's
+# default name is a random UUID (the batch loops would miss the on-disk cache).
+_fma._set_uuid("noslipsim-core-exact-fma")
 
 
 @jit(inline="always")
