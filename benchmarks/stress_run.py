@@ -363,12 +363,6 @@ def report(results, args, wall, started):
 
     # -------- failures
     out.append("## Failures\n")
-    known = [r for r in cor if r.get("law") == "specular" and r.get("precision_ok") is False]
-    if known:
-        out.append(f"Known (xfail strict in tests/test_stress.py): {ts.CORRIDOR_REASON}. Corridor cases over "
-                   f"their precision tolerance: " + ", ".join(
-                       f"{r['lattice']} slope {r['slope']:g} ({r['velocity_error'] / r['velocity_tol']:.0f}x)"
-                       for r in known) + ".\n")
     energy_known = [r for r in chains if r.get("energy_chain", 0.0) > ts.ENERGY_TOL_CHAIN]
     if energy_known:
         out.append(f"Known (xfail strict for the lemon in tests/test_stress.py): {ts.ENERGY_REASON}. Over the chain "

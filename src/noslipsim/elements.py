@@ -141,6 +141,12 @@ class Segment:
         ux, uy, nx, ny, L = self._frame()
         return [self.p0[0], self.p0[1], nx, ny, ux, uy, L]
 
+    def exact_params(self):
+        """Kernel columns for distances far along the segment: ``{column: value}`` (``core/layout.py``)."""
+        sgn = 1.0 if self.side == "left" else -1.0
+        return {layout.SEG_CROSS_SCALE: -sgn / self._frame()[4], layout.SEG_P1X: self.p1[0],
+                layout.SEG_P1Y: self.p1[1]}
+
     def size(self):
         return max(abs(c) for c in (*self.p0, *self.p1))
 

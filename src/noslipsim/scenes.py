@@ -279,6 +279,9 @@ class Scene:
         for i, e in enumerate(self.elements):
             row = e.params()
             params[i, : len(row)] = row
+            if isinstance(e, Segment):  # its own end point, for distances far along it
+                for col, value in e.exact_params().items():
+                    params[i, col] = value
         params[:, layout.END_START:layout.END_END + 1] = end_factors(self)
         return kinds, params
 

@@ -19,11 +19,17 @@ face times.
 import math
 
 from .events import hit_in_cell
-from .geometry import lattice_coordinates
+from .exact import lattice_shift_dd, two_prod, two_sum
+from .geometry import crossing_coefficients, lattice_coordinates, line_value
 from .jit import jit
-from .roots import quadratic_exit
+from .layout import LINE, SEGMENT
+from .roots import quadratic_exit, quadratic_roots
 
 INF = math.inf
+
+#: A straight flight whose hit copy lies this many cells (or more) from its start is
+#: relocated by :func:`far_hit_point`; nearer hits keep the plain evaluation, bit for bit.
+FAR_CELLS = 16
 
 
 @jit
@@ -142,3 +148,36 @@ def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
             d2 += sb
         t_in = t_out
     return INF, -1, 0, 0, 2
+
+
+@jit
+def far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t):
+    """Hit point of a long straight flight relative to the copy ``(o1, o2)`` it hit, to a few ulps of the element.
+
+    ``q + v t - (o1 a1 + o2 a2)`` formed plainly carries ``eps`` times the
+    flight's length.  Here it is formed to twice the working precision
+    (:mod:`exact`) for the float ``t``; ``t`` itself carries ``eps t``, a
+    step along the flight, which is removed by moving the point along ``v``
+    to the element's exit root nearest to it (a root of a polynomial formed
+    at the element's scale).  The result lies on the element's line or
+    circle to rounding, wherever the flight started.
+    """
+    sxh, sxl, syh, syl = lattice_shift_dd(A, o1, o2)
+    px, pe = two_prod(vx, t)
+    s1, e1 = two_sum(px, -sxh)
+    s2, e2 = two_sum(s1, x)
+    rx = s2 + (((e2 + e1) + pe) - sxl)
+    py, qe = two_prod(vy, t)
+    s1, e1 = two_sum(py, -syh)
+    s2, e2 = two_sum(s1, y)
+    ry = s2 + (((e2 + e1) + qe) - syl)
+    if kind == LINE or kind == SEGMENT:
+        rate = vx * p[2] + vy * p[3]
+        step = -line_value(kind, p, rx, ry) / rate if rate != 0.0 else 0.0
+    else:
+        c0, c1, c2 = crossing_coefficients(kind, p, rx, ry, vx, vy, 0.0, 0.0)[:3]
+        n, r1, r2 = quadratic_roots(c0, c1, c2)
+        step = 0.0
+        if n == 2:
+            step = r1 if c2 > 0.0 else r2  # the exit root, as in roots.quadratic_exit
+    return rx + vx * step, ry + vy * step

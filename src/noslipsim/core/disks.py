@@ -41,6 +41,7 @@ on the Sinai torus, 1.9 to 3 times on two- and five-disk cells
 import functools
 import math
 
+from .exact import cross_dd, lattice_shift_dd, offset_dd
 from .geometry import lattice_coordinates, lattice_shift, nearest_cell
 from .jit import jit
 from .laws import collide
@@ -64,8 +65,8 @@ NEWTON_DELTA = 1e-8
 
 
 #: Cells a flight walks with the disk offset updated by one lattice vector per
-#: step; later cells form it from the cell indices, so its rounding stays
-#: within this many rounding errors of the direct form's.
+#: step; later cells test their disk with :func:`_line_disk_far`, whose hit
+#: point does not lose digits with the distance walked.
 INCREMENTAL_CELLS = 16
 
 
@@ -82,6 +83,32 @@ def _line_disk(dx, dy, vx, vy, ivv, rr):
 
 
 @jit(inline="always")
+def _line_disk_far(A, d1, d2, ex, ey, vx, vy, ivv, rr):
+    """:func:`_line_disk` for the disk of a far cell ``(d1, d2)``; ``e`` is the start seen from the disk of cell 0.
+
+    ``d = e - (d1 a1 + d2 a2)`` is as long as the flight, so ``h = d + v t``
+    would carry ``eps |d|``.  Here ``d`` is formed exactly
+    (:func:`exact.lattice_shift_dd`), the cross product ``d x v`` (the
+    flight's distance from the centre times ``|v|``) to a few ulps of itself
+    (:func:`exact.cross_dd`), and the hit point without ``t``: ``h`` is the
+    foot of the perpendicular, ``(d x v) (vy, -vx) / |v|^2``, stepped back
+    along the flight by ``sqrt(disc) / |v|^2``.  Its error is a few ulps of
+    ``r``, however far the flight went; the time keeps a few ulps of itself.
+    """
+    sxh, sxl, syh, syl = lattice_shift_dd(A, d1, d2)
+    dxh, dxl = offset_dd(ex, sxh, sxl)
+    dyh, dyl = offset_dd(ey, syh, syl)
+    b = dxh * vx + dyh * vy
+    cross = cross_dd(dxh, dxl, dyh, dyl, vx, vy)
+    disc = rr - cross * cross
+    if b < 0.0 and disc > 0.0:
+        sq = math.sqrt(disc)
+        t = (-b - sq) * ivv
+        return t, (cross * vy - vx * sq) * ivv, -(cross * vx + vy * sq) * ivv
+    return INF, 0.0, 0.0
+
+
+@jit(inline="always")
 def disk_walk(p, A, B, x, y, vx, vy, cur_o1, cur_o2, t_limit, max_cells):
     """First disk hit of the straight flight from ``(x, y)`` (relative to cell 0); one disk ``p`` per cell.
 
@@ -91,8 +118,8 @@ def disk_walk(p, A, B, x, y, vx, vy, cur_o1, cur_o2, t_limit, max_cells):
     lies inside its cell, so the first hit found is the earliest.  Along the
     first ``INCREMENTAL_CELLS`` cells the offset ``d`` from the disk's centre
     is updated by one lattice vector per step (each step rounds once); later
-    cells form it from the cell indices, so its error stays within a few
-    rounding errors of the direct form's however long the flight.
+    cells use :func:`_line_disk_far` (exact offset, compensated cross
+    product), so the hit point's error does not grow with the flight.
 
     Returns ``(t, o1, o2, hx, hy, status)``: the hit cell, the hit point
     relative to the centre, and ``status`` as in :func:`cells.walk_hit`
@@ -114,17 +141,18 @@ def disk_walk(p, A, B, x, y, vx, vy, cur_o1, cur_o2, t_limit, max_cells):
     uy = s1 * A[1, 0]
     wx = s2 * A[0, 1]
     wy = s2 * A[1, 1]
-    dx = x - p[0]
-    dy = y - p[1]
+    ex = x - p[0]
+    ey = y - p[1]
+    dx = ex
+    dy = ey
     d1 = 0
     d2 = 0
     for k in range(max_cells):
         if not (d1 == cur_o1 and d2 == cur_o2):
             if k >= INCREMENTAL_CELLS:
-                sx, sy = lattice_shift(A, d1, d2)
-                dx = (x - sx) - p[0]
-                dy = (y - sy) - p[1]
-            t, hx, hy = _line_disk(dx, dy, vx, vy, ivv, rr)
+                t, hx, hy = _line_disk_far(A, d1, d2, ex, ey, vx, vy, ivv, rr)
+            else:
+                t, hx, hy = _line_disk(dx, dy, vx, vy, ivv, rr)
             if t < INF:
                 return t, d1, d2, hx, hy, 0
         t_out = min(ta, tb)

@@ -19,6 +19,8 @@ from .geometry import (
     distance_rate,
     element_box,
     extent_position,
+    LINE_GATE,
+    line_value_exact,
     signed_distance,
 )
 from .jit import jit
@@ -243,3 +245,48 @@ def slides_off(kind, p, x, y, vx, vy, ax, ay):
     if c3 != 0.0:
         return c3 < 0.0
     return c4 < 0.0
+
+
+@jit(inline="always")
+def exact_line_hit(kind, p, x, y, vx, vy, ax, ay, has_force, deflated, t, hx, hy, px, py, vxi, vyi):
+    """A hit on a line or segment redone where the plain distances cancelled (far along a long wall).
+
+    The hit search forms the start's distance ``(q - p0) . n`` plainly, which
+    carries ``eps |q - p0|``, and so does the projection of the hit point
+    ``(hx, hy)`` to ``(px, py)``.  Where the first cancelled (its terms exceed
+    ``LINE_GATE`` times its value) or the second's error exceeds ``LINE_GATE``
+    times the hit point's own rounding, the hit is redone by :func:`_redo_line_hit`.
+    Checked once per collision on the element hit, so the search over all
+    elements keeps its plain, cheaper form.  Returns ``(t, px, py, vx, vy)``
+    at the hit (``v`` changes with ``t`` under a force).
+    """
+    a = (x - p[0]) * p[2]
+    b = (y - p[1]) * p[3]
+    ha = (hx - p[0]) * p[2]
+    hb = (hy - p[1]) * p[3]
+    # the start's distance: relative to itself (the flight time is proportional to it); the hit
+    # point's (about 0): against the point's own rounding, eps max(|hx|, |hy|)
+    if ((deflated or abs(a) + abs(b) <= LINE_GATE * abs(a + b))
+            and abs(ha) + abs(hb) <= LINE_GATE * max(abs(hx), abs(hy))):
+        return t, px, py, vxi, vyi
+    return _redo_line_hit(kind, p, x, y, vx, vy, ax, ay, has_force, deflated, t, hx, hy, vxi, vyi)
+
+
+@jit
+def _redo_line_hit(kind, p, x, y, vx, vy, ax, ay, has_force, deflated, t, hx, hy, vxi, vyi):
+    """:func:`exact_line_hit`'s rare path: the exit root from the start's exact distance (unless the
+    element was just hit: its root ``t = 0`` is deflated and its distance not used), then the
+    projection with the exact distance (:func:`geometry.line_value_exact`)."""
+    nx = p[2]
+    ny = p[3]
+    a = (x - p[0]) * nx
+    b = (y - p[1]) * ny
+    if not deflated and abs(a) + abs(b) > LINE_GATE * abs(a + b):
+        c0 = line_value_exact(kind, p, x, y)
+        c1 = vx * nx + vy * ny
+        t2 = quadratic_exit(c0, c1, 0.5 * (ax * nx + ay * ny), INF) if has_force else linear_exit(c0, c1, INF)
+        if t2 < INF:
+            t = t2
+            hx, hy, vxi, vyi = advance(x, y, vx, vy, ax, ay, t, has_force)
+    d = line_value_exact(kind, p, hx, hy)
+    return t, hx - d * nx, hy - d * ny, vxi, vyi

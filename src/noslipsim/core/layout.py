@@ -4,7 +4,8 @@
 
 =========  ======================================================================
 LINE       px, py, nx, ny                  (point; unit normal INTO the table)
-SEGMENT    p0x, p0y, nx, ny, dx, dy, L     (start; inward unit normal; unit direction; length)
+SEGMENT    p0x, p0y, nx, ny, dx, dy, L, k  (start; inward unit normal; unit direction; length;
+                                           k = -side / L) and p1x, p1y in SEG_P1X, SEG_P1Y
 CIRCLE     cx, cy, r, sigma                (sigma = +1: table outside (scatterer), -1: inside)
 ARC        cx, cy, r, sigma, theta0, span  (theta0 in [0, 2pi); CCW span in (0, 2pi])
 =========  ======================================================================
@@ -18,7 +19,14 @@ SEGMENT = 1
 CIRCLE = 2
 ARC = 3
 
-N_PARAMS = 10
+N_PARAMS = 12
+
+#: Segments: ``-side / L`` (side +1 left, -1 right), which turns ``(q - p0) x (p1 - p0)``
+#: into the signed distance, and the end point ``p1`` itself, so a distance far along
+#: the segment can be formed from its own end points (:func:`geometry.line_value`).
+SEG_CROSS_SCALE = 7
+SEG_P1X = 10
+SEG_P1Y = 11
 
 #: Segments and arcs: columns holding the end-band factors of their start and
 #: end (1 at a convex junction, ``NONCONVEX_END_FACTOR`` at a reflex junction

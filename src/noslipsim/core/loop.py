@@ -22,14 +22,14 @@ time is a running sum.
 import functools
 import math
 
-from .cells import walk_hit
+from .cells import FAR_CELLS, far_hit_point, walk_hit
 from .disks import disk_lattice_kernel
-from .events import advance, hit_in_cell, leaves_through_contact, slides_off
+from .events import advance, exact_line_hit, hit_in_cell, leaves_through_contact, slides_off
 from .geometry import copy_shift, lattice_shift, nearest_cell, place_on_element
 from .jit import jit
 from .laws import collide
 from .layout import (
-    NOSLIP, RECORD_LOG, RECORD_NONE, SPECULAR, STOP_CORNER, STOP_ESCAPE, STOP_GRAZING, STOP_LEVEL,
+    LINE, NOSLIP, SEGMENT, RECORD_LOG, RECORD_NONE, SPECULAR, STOP_CORNER, STOP_ESCAPE, STOP_GRAZING, STOP_LEVEL,
     STOP_MAX_COLLISIONS, STOP_MAX_TIME,
 )
 from .records import record
@@ -206,7 +206,16 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None):
             kind = kinds[e]
             p = params[e]
             sx, sy = copy_shift(A, o1, o2, lattice)
-            px, py, nx, ny = place_on_element(kind, p, hx - sx, hy - sy)
+            rx = hx - sx
+            ry = hy - sy
+            far = lattice and not has_force and max(abs(o1), abs(o2)) >= FAR_CELLS
+            if far:  # eps x flight length
+                rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
+            px, py, nx, ny = place_on_element(kind, p, rx, ry)
+            if (kind == LINE or kind == SEGMENT) and not far:  # eps x distance along a long wall
+                t_hit, px, py, vx_in, vy_in = exact_line_hit(
+                    kind, p, x - sx, y - sy, vx, vy, ax, ay, has_force, e == cur_e and o1 == cur_o1 and o2 == cur_o2,
+                    t_hit, rx, ry, px, py, vx_in, vy_in)
             x = px + sx
             y = py + sy
             if lattice:  # re-base onto the cell that now holds the particle
