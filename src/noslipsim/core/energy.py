@@ -16,8 +16,11 @@ docs/algorithm.md section 0):
   ``gamma = 1/sqrt 2``, where ``c = 1/3``) and its products with ``c`` and
   ``s`` round with a sign on average (+1.8e-18).  No float pair but the axes'
   is exactly unit;
-* the lean loop's Newton ``1/|h|^2``: ``1 - delta`` rounds on the uneven
-  float grid at 1 (-1.3e-17 per collision at r = 1/4, +6.6e-17 at r = 0.3);
+* the lean loop's Newton steps: its normal ``(1/r)(1 - delta/2) h`` was
+  rounded next to ``1/r`` (-1.05e-16 per no-slip collision at r = 0.3), now
+  formed with fused multiply-adds (+9e-18, :mod:`disks`); its specular
+  ``1 - delta`` rounds on the uneven float grid at 1 (-2e-18 per collision in
+  orbits, up to +6.6e-17 for points exactly on the circle);
 * under a force, the projection onto the element: it moves the particle by a
   rounding-sized step along the normal and leaves ``v`` alone, so ``E`` changes
   by ``-a . dq``, one-signed because the root is approached from one side
