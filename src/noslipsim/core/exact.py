@@ -6,6 +6,8 @@ correction far below an ulp enters a result *before* its only rounding: added
 to an already rounded value it would be rounded away the same way every time,
 which is a bias (docs/algorithm.md section 0).
 """
+import hashlib
+
 from llvmlite import ir
 from numba import types
 from numba.extending import intrinsic
@@ -22,3 +24,8 @@ def fma(typingctx, a, b, c):
         return builder.call(fn, args)
 
     return sig, codegen
+
+
+# The intrinsic pickles with a UUID drawn once per process; a kernel that calls it would then have
+# a new cache key in every process (as core/jit.py explains for dispatchers): name it for good.
+fma._set_uuid("noslipsim-" + hashlib.sha256(f"{__name__}.fma".encode()).hexdigest())
