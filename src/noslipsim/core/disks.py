@@ -16,8 +16,11 @@ collision to the next is what limits the speed):
   the hit point relative to the centre is ``h = d + v t``;
 * ``h`` lies on the circle to rounding (as a projected point does), so
   ``|h|^2 = r^2 (1 + delta)`` with ``delta`` of a few ulps, and ``1/|h|^2`` and
-  ``1/|h|`` are one Newton step from ``1/r^2`` and ``1/r``, accurate to
+  ``h/|h|`` are one Newton step from ``1/r^2`` and ``h/r``, accurate to
   ``delta^2`` (a division when ``delta`` is not small, see ``NEWTON_DELTA``);
+  the normal's step is taken with fused multiply-adds (:func:`exact.fma`), so
+  its correction is not rounded away at 1 (that biased the energy by
+  -1e-16 per no-slip collision at r = 0.3; docs/algorithm.md section 0);
 * specular: ``v' = v - 2 (v . h) h / |h|^2``, the reflection in the line
   through ``h``; no-slip: :func:`laws.collide` with ``n = -h/|h|``.
 
@@ -41,7 +44,8 @@ on the Sinai torus, 1.9 to 3 times on two- and five-disk cells
 import functools
 import math
 
-from .exact import cross_dd, lattice_shift_dd, offset_dd
+from .energy import SETTLE_EVERY, settle, state_energy
+from .exact import cross_dd, fma, lattice_shift_dd, offset_dd
 from .geometry import lattice_coordinates, lattice_shift, nearest_cell
 from .jit import jit
 from .laws import collide
@@ -315,6 +319,9 @@ def _disk_loop(spin, mode, one):
         # 1/r of the first disk once (the only one of a Sinai torus); of another disk at its hit
         e0 = copies[0, 0]
         ir0 = 1.0 / params[e0, 2]
+        # the energy kept (energy.settle); no force: |v|^2 (+ w^2 where the law exchanges it with the spin)
+        mixes = law == NOSLIP and s != 0.0
+        energy0 = state_energy(vx, vy, w, mixes, 0.0, 0.0, 0.0, 0.0, False)[0]
         t = 0.0
         # the disk the flight leaves: element cur_e of cell (cur_o1, cur_o2) (none at a start inside the table)
         cur_e = start_element
@@ -390,19 +397,28 @@ def _disk_loop(spin, mode, one):
             vx_in = vx
             vy_in = vy
             w_in = w
-            # |h|^2 = r^2 (1 + delta) with delta at rounding level: 1/|h|^2 and 1/|h| by one Newton
-            # step from 1/r^2 and 1/r (error ~ delta^2), so no division or square root waits on h
-            hh = hx * hx + hy * hy
-            delta = hh * ir2 - 1.0
             nx = 0.0
             ny = 0.0
             if law == NOSLIP or mode == RECORD_PORTRAIT:
-                irho = ir * (1.0 - 0.5 * delta) if abs(delta) < NEWTON_DELTA else 1.0 / math.sqrt(hh)
-                nx = -hx * irho
-                ny = -hy * irho
+                # n = -h/|h| with no division or square root waiting on h: with a = h/r and g = |a|^2 - 1
+                # (a few ulps; by fma, so nothing is rounded at 1), h/|h| = a (1 - g/2) to g^2, and the
+                # correction enters each component before its one rounding (docs/algorithm.md section 0)
+                ax_ = hx * ir
+                ay_ = hy * ir
+                g = fma(ax_, ax_, fma(ay_, ay_, -1.0))
+                if abs(g) < NEWTON_DELTA:
+                    hg = 0.5 * g
+                    nx = -fma(hx, ir, -hg * ax_)
+                    ny = -fma(hy, ir, -hg * ay_)
+                else:  # a hit point far off the circle (the end of a very long flight)
+                    irho = 1.0 / math.sqrt(hx * hx + hy * hy)
+                    nx = -hx * irho
+                    ny = -hy * irho
             if law == NOSLIP:
                 vx, vy, w = collide(law, c, s, vx, vy, w, nx, ny)
-            else:  # the reflection in the line through h
+            else:  # the reflection in the line through h; 1/|h|^2 one Newton step from 1/r^2
+                hh = hx * hx + hy * hy
+                delta = hh * ir2 - 1.0
                 ihh = ir2 * (1.0 - delta) if abs(delta) < NEWTON_DELTA else 1.0 / hh
                 k = 2.0 * (vx * hx + vy * hy) * ihh
                 vx -= k * hx
@@ -417,6 +433,8 @@ def _disk_loop(spin, mode, one):
                     sx, sy = lattice_shift(A, cur_o1, cur_o2)
                 n_rec = record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w, vx_in, vy_in, w_in,
                                CIRCLE, p, sx, sy, e, 0.0, nx, ny)
+            if n % SETTLE_EVERY == 0:  # the energy measured, given back if off (the next flight's v)
+                vx, vy, w = settle(vx, vy, w, mixes, 0.0, 0.0, 0.0, 0.0, False, energy0)
         ox, oy = lattice_shift(A, m1, m2)
         # the final state may lie in another cell (a stop in mid-flight)
         k1, k2 = nearest_cell(B, x, y)

@@ -26,6 +26,7 @@ from .cells import FAR_CELLS, far_hit_point, walk_hit
 from .disks import disk_lattice_kernel
 from .events import advance, exact_line_hit, hit_in_cell, leaves_through_contact, slides_off
 from .geometry import copy_shift, lattice_shift, nearest_cell, place_on_element
+from .energy import SETTLE_EVERY, settle, state_energy
 from .jit import jit
 from .laws import collide
 from .layout import (
@@ -158,6 +159,10 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None):
         law = law if SPIN_RT else (NOSLIP if SPIN else SPECULAR)
         lattice = lattice if LATTICE_RT else LATTICE
         mode = mode if MODE_RT else MODE
+        # the energy to keep (energy.settle), twice the start's (gamma = 0 keeps the spin's apart, as specular)
+        mixes = law == NOSLIP and s != 0.0  # the spin takes part in the energy exchange
+        e0 = state_energy(vx, vy, w, mixes, ax, ay, x, y, has_force)[0]
+        settle_at = SETTLE_EVERY  # corner bounces may step n past a multiple of SETTLE_EVERY
         t = 0.0
         cur_e = start_element
         cur_o1 = 0
@@ -171,6 +176,9 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None):
         n_corner = 0
         stop = STOP_MAX_COLLISIONS
         while n < max_collisions:
+            if n >= settle_at:  # every SETTLE_EVERY collisions: the energy measured, given back if off
+                settle_at = n + SETTLE_EVERY
+                vx, vy, w = settle(vx, vy, w, mixes, ax, ay, x + ox, y + oy, has_force, e0)
             length = max(scale, abs(x), abs(y))
             extent_tol = EXTENT_TOL * length
             remaining = max_time - t

@@ -1,0 +1,97 @@
+"""The energy an orbit starts with, kept: measured every ``SETTLE_EVERY`` collisions, given back when off.
+
+In exact arithmetic a collision keeps ``|v|^2 + w^2`` (the no-slip law is a
+rotation of ``(v_t, w)``, specular a reflection) and a flight under a constant
+force keeps ``E = (|v|^2 + w^2)/2 - a . q``.  In floating point each collision
+changes ``E`` by some 1e-16 relative, and not at random: the mean change is
+1e-18 to 1e-16 per collision, so the error grew linearly (4e-13 to 1e-10 per
+10^6 collisions).  Measured term by term (``benchmarks/energy_terms.py``,
+docs/algorithm.md section 0):
+
+* the law, with a normal or rotation unit only to rounding: a specular hit
+  scales ``|v|^2`` by ``(|n|^2)^2``, so a stored line normal with
+  ``|n|^2 = 1 + delta`` adds ``2 delta`` at every hit (the pentagon: ``delta`` =
+  4.2e-18, 7.5e-18), and a circle normal ``d / hypot(d)`` has ``|n|^2 - 1``
+  = +4e-18 on average; no-slip adds ``c^2 + s^2 - 1`` (6.6e-18 at
+  ``gamma = 1/sqrt 2``, where ``c = 1/3``) and its products with ``c`` and
+  ``s`` round with a sign on average (+1.8e-18).  No float pair but the axes'
+  is exactly unit;
+* the lean loop's Newton steps: its normal ``(1/r)(1 - delta/2) h`` was
+  rounded next to ``1/r`` (-1.05e-16 per no-slip collision at r = 0.3), now
+  formed with fused multiply-adds (+9e-18, :mod:`disks`); its specular
+  ``1 - delta`` rounds on the uneven float grid at 1 (-2e-18 per collision in
+  orbits, up to +6.6e-17 for points exactly on the circle);
+* under a force, the projection onto the element: it moves the particle by a
+  rounding-sized step along the normal and leaves ``v`` alone, so ``E`` changes
+  by ``-a . dq``, one-signed because the root is approached from one side
+  (the circle container under gravity: -4e-17 per collision, the largest
+  term there); the flight itself is unbiased to 1e-18.
+
+:func:`settle`, called by the event loops every ``SETTLE_EVERY`` collisions,
+measures ``E`` (:func:`state_energy`, plain floating point: its own rounding,
+about 1e-16, is not carried from one measurement to the next) and, when it is
+off the start value by more than ``SETTLE_AT`` (relative to the size of its
+terms), scales ``(v, w)`` by ``1 + f`` to give the excess back.  ``|f|`` is
+then at least ``SETTLE_AT / 2``, dozens of ulps, so ``x + x f`` rounds a value
+that is not near ``x``'s grid point (unbiased, unlike a factor ``1 + f``
+rounded at 1, the rescaling docs/algorithm.md records as rejected); and
+every correction aims at the *start* value, so nothing is carried either:
+the error stays below ``SETTLE_AT`` plus ``SETTLE_EVERY`` collisions' bias
+(a few 1e-14) for any number of collisions.  No collision or flight is
+computed differently; the correction is a change of speed of ~1e-14 every
+few hundred collisions.  :func:`settle` is a call, not inlined: inlined, it
+halved the pentagon's rate (the event loop's registers), called, it costs
+nothing measurable (``benchmarks/RESULTS.md``).
+"""
+from .jit import jit
+
+#: Collisions between two measurements of the energy.
+SETTLE_EVERY = 256
+#: Relative energy error above which :func:`settle` restores the start value.
+SETTLE_AT = 1e-14
+#: Largest relative energy error :func:`settle` gives back.  Rounding makes some 1e-16 per
+#: collision, a few 1e-14 between two measurements; an error this large is not rounding but a
+#: defect (a wrong law, a missed collision), and stays for the energy tests to see.
+MAX_EXCESS = 1e-11
+#: Largest relative correction :func:`settle` applies; a larger one would mean a particle all but
+#: at rest, whose tiny kinetic energy cannot take the potential energy's rounding: it is left alone.
+MAX_SETTLE = 1e-8
+
+
+@jit(inline="always")
+def state_energy(vx, vy, w, spin, ax, ay, qx, qy, has_force):
+    """``(E, K)``: twice the energy, ``|v|^2 + w^2 - 2 a . q`` (``w`` only if ``spin``), and the kinetic part.
+
+    Plain floating point: its rounding, about 1e-16 relative and of either
+    sign from one state to the next, does not add up (each measurement starts
+    afresh), so it is far below ``SETTLE_AT``.
+    """
+    kin = vx * vx + vy * vy
+    if spin:
+        kin += w * w
+    if has_force:
+        return kin - 2.0 * (ax * qx + ay * qy), kin
+    return kin, kin
+
+
+@jit  # not inlined: the hot loop stays as it was (inlined, the pentagon ran at half its rate)
+def settle(vx, vy, w, spin, ax, ay, qx, qy, has_force, e0):
+    """``(vx, vy, w)`` with the energy given back to ``e0`` (:func:`state_energy` at the start) if off by ``SETTLE_AT``.
+
+    Only rounding is given back: an error above ``MAX_EXCESS`` is left as it is.
+
+    The kinetic part ``|v|^2 (+ w^2)`` takes the correction: the state is
+    scaled by ``1 + f``, ``f = -(E - e0) / (2 K)``, some 1e-14 or more, many
+    ulps, so the rounding of ``x + x f`` only adds errors of either sign.
+    """
+    e, kin = state_energy(vx, vy, w, spin, ax, ay, qx, qy, has_force)
+    excess = e - e0
+    size = kin + abs(e - kin)  # the size of the terms
+    if SETTLE_AT * size < abs(excess) < MAX_EXCESS * size:
+        f = -0.5 * excess / kin
+        if abs(f) < MAX_SETTLE:
+            vx += vx * f
+            vy += vy * f
+            if spin:
+                w += w * f
+    return vx, vy, w
