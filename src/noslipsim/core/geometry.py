@@ -5,7 +5,7 @@ side), the signed distance, the extent test (ends inclusive within a
 tolerance), the projection onto the element with the outward unit normal, and
 the arclength coordinate.  Adding an element kind touches only this module.
 
-Frame convention (DESIGN section 2): ``n`` is the *outward* unit normal (out of
+Frame convention (docs/conventions.md, "The collision frame"): ``n`` is the *outward* unit normal (out of
 the table, into the wall) and the tangent is ``t = J n = (-n_y, n_x)``.
 """
 import math

@@ -1,4 +1,4 @@
-"""Collision laws in the frame of DESIGN section 2.
+"""Collision laws in the collision frame of docs/conventions.md ("The collision frame").
 
 At a boundary point with outward unit normal ``n`` and tangent ``t = J n``
 (``n`` turned +90 degrees), write ``v_t = v . t`` and ``v_n = v . n``.  The

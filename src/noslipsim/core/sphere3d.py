@@ -4,7 +4,7 @@ State: position ``q`` and velocity ``v`` in R^3 (``z`` up, the table is ``z > 0`
 and the scaled spin ``W = gamma R omega`` in R^3.  Between bounces
 ``q(t) = q + v t - g t^2 e_z / 2`` and ``W`` is constant.  At a bounce, with
 ``n = e_z`` the plane normal pointing towards the sphere and
-``sigma = n x W_T`` (DESIGN section 2):
+``sigma = n x W_T`` (docs/conventions.md, "Three dimensions: a rough sphere on a plane"):
 
 .. math::
 
@@ -18,7 +18,7 @@ reverses the velocity ``v + (n x W)/gamma`` of the contact point ``q - R n``
 and conserves ``|v|^2 + |W|^2``.  For ``n = e_z``: ``sigma = (-W_y, W_x, 0)``
 and ``sigma x n = (sigma_y, -sigma_x, 0)``.
 
-Arrays and floats only (DESIGN section 3); the public wrapper is
+Arrays and floats only, like every kernel in core; the public wrapper is
 :func:`noslipsim.sphere3d.simulate_sphere`.
 """
 import math
