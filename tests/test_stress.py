@@ -785,15 +785,22 @@ def corridor_run(slope, law, lattice="square", n=100):
     Square lattice (disks r = 0.1 at integer points), start (0.5, 0.23) moving right:
     the first disk hit is in row 1 at the first column whose disk the line enters.
     Hexagonal lattice (r = 0.3, rows at heights k sqrt(3)/2): start (0, 0.35).
+    ``"square2"``: the square lattice with a second disk r = 0.1 at (1/2, 0) in each cell (two
+    disks per cell: the lean loop's copy walk, ``disks_walk``); centres half a unit apart.
     Returns the invariants, the hit time error, whether the right disk was hit, and the
     error of the velocity after the hit against the exact collision (float inputs taken
     exactly, 60 digits) with its conditioning tolerance ``STEP_ULPS eps / sin(incidence)``.
     """
     import mpmath as mp
     mp.mp.dps = 60
+    spacing = mp.mpf(1)
     if lattice == "square":
         r, row_y, x_off, q = 0.1, mp.mpf(1), mp.mpf(0), (0.5, 0.23)
         scene = tables.sinai_torus(r, law=law)
+    elif lattice == "square2":
+        r, row_y, x_off, q, spacing = 0.1, mp.mpf(1), mp.mpf(0), (0.25, 0.23), mp.mpf(1) / 2
+        scene = Scene((Circle((0.0, 0.0), r, "outside"), Circle((0.5, 0.0), r, "outside")),
+                      law=law, lattice={"a1": (1.0, 0.0), "a2": (0.0, 1.0)})
     else:
         r, row_y, x_off, q = 0.3, mp.sqrt(3) / 2, mp.mpf(1) / 2, (0.0, 0.35)
         scene = tables.hex_lorentz_cell(r, law=law)
@@ -804,19 +811,19 @@ def corridor_run(slope, law, lattice="square", n=100):
     a = vx * vx + vy * vy
 
     def hit(i):
-        dx, dy = qx - (x_off + i), qy - row_y
+        dx, dy = qx - (x_off + i * spacing), qy - row_y
         b = dx * vx + dy * vy
         c = dx * dx + dy * dy - R * R
         disc = b * b - a * c
         return None if disc < 0 else (-b - mp.sqrt(disc)) / a
 
     # distance from centre i to the line decreases with i; the first i within r
-    i = int(mp.floor(qx + (row_y - R * mp.sqrt(a) / vx - qy) * vx / vy - x_off)) - 2
+    i = int(mp.floor((qx + (row_y - R * mp.sqrt(a) / vx - qy) * vx / vy - x_off) / spacing)) - 2
     while hit(i) is None or hit(i) <= 0:
         i += 1
     t_exact = hit(i)
     # the exact collision: outward normal (into the disk), t = J n, the law
-    nx, ny = -(qx + vx * t_exact - (x_off + i)) / R, -(qy + vy * t_exact - row_y) / R
+    nx, ny = -(qx + vx * t_exact - (x_off + i * spacing)) / R, -(qy + vy * t_exact - row_y) / R
     vt, vn = -vx * ny + vy * nx, vx * nx + vy * ny
     if law == "specular":
         vt1, w1 = vt, mp.mpf(0)
@@ -911,9 +918,17 @@ def test_corridor_hit_precision_short():
     assert_corridor_precision(corridor_run(1e-6, "specular", n=1))
 
 
+def test_corridor_hit_precision_two_disks_per_cell_short():
+    """The same flight through the lean loop's copy walk (two disks per cell)."""
+    two = Scene((Circle((0.0, 0.0), 0.1, "outside"), Circle((0.5, 0.0), 0.1, "outside")),
+                lattice={"a1": (1.0, 0.0), "a2": (0.0, 1.0)})
+    assert two.disk_lattice and not two.one_disk_per_cell
+    assert_corridor_precision(corridor_run(1e-6, "specular", lattice="square2", n=1))
+
+
 def general_loop_only(monkeypatch):
     """Run lattice scenes through the general loop (``core/loop.py``), not the lean disk loop."""
-    monkeypatch.setattr(Scene, "one_disk_per_cell", property(lambda self: False))
+    monkeypatch.setattr(Scene, "disk_lattice", property(lambda self: False))
     assert not tables.sinai_torus(0.1).kernel_variant(1)[4]
 
 
@@ -935,7 +950,7 @@ def test_corridor_stress(lattice, slope, law):
 
 @pytest.mark.stress
 @pytest.mark.parametrize("loop", ["lean", "general"])
-@pytest.mark.parametrize("lattice", ["square", "hex"])
+@pytest.mark.parametrize("lattice", ["square", "hex", "square2"])
 @pytest.mark.parametrize("slope", CORRIDOR_SLOPES)
 def test_corridor_hit_precision_stress(lattice, slope, loop, monkeypatch):
     if loop == "general":

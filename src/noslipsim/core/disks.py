@@ -191,8 +191,9 @@ def disks_walk(params, copies, inside, A, B, x, y, vx, vy, cur_e, cur_o1, cur_o2
     the earliest of the first cell with a hit is taken at once.  Along the first
     ``INCREMENTAL_CELLS`` cells the offset ``d`` from the cell's centre is
     updated by one lattice vector per step (each step rounds once); later
-    cells form it from the cell indices, so its error stays within a few
-    rounding errors of the direct form's however long the flight.
+    cells test their copies with :func:`_line_disk_far` (exact offset,
+    compensated cross product), so the hit point's error does not grow with
+    the flight, as in :func:`disk_walk`.
 
     Returns ``(t, o1, o2, j, hx, hy, status)``: the walk cell where the hit was
     found, the copy ``j`` hit, the hit point relative to the copy's centre, and
@@ -224,10 +225,7 @@ def disks_walk(params, copies, inside, A, B, x, y, vx, vy, cur_e, cur_o1, cur_o2
     bx = 0.0
     by = 0.0
     for k in range(max_cells):
-        if k >= INCREMENTAL_CELLS:
-            sx, sy = lattice_shift(A, d1, d2)
-            dx = x - sx
-            dy = y - sy
+        far = k >= INCREMENTAL_CELLS
         for j in range(copies.shape[0]):
             e = copies[j, 0]
             o1 = copies[j, 1]
@@ -235,13 +233,17 @@ def disks_walk(params, copies, inside, A, B, x, y, vx, vy, cur_e, cur_o1, cur_o2
             if e == cur_e and d1 + o1 == cur_o1 and d2 + o2 == cur_o2:
                 continue
             p = params[e]
-            ex = dx - p[0]
-            ey = dy - p[1]
-            if o1 != 0 or o2 != 0:
-                sx, sy = lattice_shift(A, o1, o2)
-                ex -= sx
-                ey -= sy
-            t, hx, hy = _line_disk(ex, ey, vx, vy, ivv, vv * (p[2] * p[2]))
+            rr = vv * (p[2] * p[2])
+            if far:  # the copy's centre is d + o cells away: offset and hit point by _line_disk_far
+                t, hx, hy = _line_disk_far(A, d1 + o1, d2 + o2, x - p[0], y - p[1], vx, vy, ivv, rr)
+            else:
+                ex = dx - p[0]
+                ey = dy - p[1]
+                if o1 != 0 or o2 != 0:
+                    sx, sy = lattice_shift(A, o1, o2)
+                    ex -= sx
+                    ey -= sy
+                t, hx, hy = _line_disk(ex, ey, vx, vy, ivv, rr)
             if t < best:
                 best = t
                 bj = j
