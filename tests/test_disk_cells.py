@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 import pytest
+from lean_kernels import LOG, NONE, PORTRAIT, kernels, run
 
 from noslipsim import Circle, Scene, Segment, simulate, simulate_many, tables
 from noslipsim.canonical import canonical_form
@@ -22,7 +23,6 @@ from noslipsim.core.disks import disk_lattice_kernel
 from noslipsim.core.loop import orbit_kernel
 from noslipsim.lattice import cell_origin, lattice_matrix
 
-LOG, PORTRAIT, NONE = layout.RECORD_LOG, layout.RECORD_PORTRAIT, layout.RECORD_NONE
 SQUARE = {"a1": [1.0, 0.0], "a2": [0.0, 1.0]}
 HEX = {"a1": [1.0, 0.0], "a2": [0.5, math.sqrt(3.0) / 2.0]}
 
@@ -54,25 +54,6 @@ def kernel_scene(name, law="specular"):
 
 NAMES = [*USER_DISKS, "hex_0.45"]
 CASES = [(name, law) for name in NAMES for law in ("specular", "no-slip")]
-
-
-def kernels(scene, mode):
-    """``(general, lean)``: the general path's lattice variant for this scene and the lean loop."""
-    flags = scene.kernel_variant(mode)
-    assert flags[4] is True
-    return orbit_kernel(*flags[:4]), orbit_kernel(*flags)
-
-
-def run(kernel, scene, q, v, w, n, mode=LOG, max_time=math.inf, level=-math.inf, start_element=-1):
-    """Run ``kernel`` from ``q`` (relative to cell 0); returns the 12 outputs and the records."""
-    kinds, params, copies, A, B, lattice, jstart, jpts = scene.kernel_inputs()
-    c, s = scene.noslip_coefficients
-    width = layout.N_PORTRAIT if mode == PORTRAIT else layout.N_LOG
-    rec = np.zeros((n if mode != NONE else 0, width))
-    mask = np.ones(len(kinds), dtype=np.bool_)
-    out = kernel(kinds, params, copies, A, B, lattice, jstart, jpts, scene.law_code, c, s, 0.0, 0.0,
-                 q[0], q[1], v[0], v[1], w, n, max_time, level, scene.scale, mode, rec, mask, start_element)
-    return out, rec
 
 
 def start_of(name):
