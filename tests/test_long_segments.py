@@ -114,3 +114,20 @@ def test_cases_reach_far_along_the_wall_where_the_state_is_exact():
         rows = one_step_errors("centred", "no-slip", force, LENGTH / 2)
         assert min(r["from_p0"] for r in rows) > 0.49 * LENGTH
     assert max(r["bound"] for r in rows) < 1.5 * STEP_TOL  # the state's rounding is negligible here
+
+
+def test_only_long_walls_are_checked_for_a_cancelled_distance():
+    """A compact table's walls skip the long-wall check (it cost the pentagon 6-9 %); long ones keep it."""
+    from noslipsim.core import layout
+
+    def flags(scene):
+        return scene.arrays()[1][:, layout.LONG_WALL].tolist()
+
+    a = 2 * np.pi * np.arange(5) / 5
+    assert flags(tables.polygon(np.c_[np.cos(a), np.sin(a)])) == [0.0] * 5
+    assert flags(tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)])) == [0.0] * 5
+    # the long sides of the 1e6 parallelogram (16x its short sides and more), not the short ones
+    assert flags(scene_and_start("from_p0", "specular", FORCES["none"], 0.5)[0]) == [1.0, 0.0, 1.0, 0.0]
+    assert flags(tables.channel(1.0)) == [1.0, 1.0]  # a line has no end: always
+    # a square whose disk is 16x smaller than its sides makes the sides long
+    assert flags(tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 1.0 / 32)]))[:4] == [1.0] * 4

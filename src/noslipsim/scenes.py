@@ -283,7 +283,17 @@ class Scene:
                 for col, value in e.exact_params().items():
                     params[i, col] = value
         params[:, layout.END_START:layout.END_END + 1] = end_factors(self)
+        params[:, layout.LONG_WALL] = self._long_walls()
         return kinds, params
+
+    def _long_walls(self):
+        """1.0 per line and per segment long against the table's smallest feature (``layout.LONG_WALL``)."""
+        features = [e.length() if isinstance(e, Segment) else e.radius
+                    for e in self.elements if isinstance(e, (Segment, Circle, Arc))]
+        smallest = min(features, default=math.inf)
+        return [1.0 if isinstance(e, Line) or (isinstance(e, Segment)
+                                               and e.length() > layout.LONG_WALL_RATIO * smallest) else 0.0
+                for e in self.elements]
 
     def kernel_inputs(self):
         """Everything the event loop needs about the table.
