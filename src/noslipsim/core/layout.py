@@ -25,7 +25,8 @@ N_PARAMS = 13
 #: table's smallest feature, so its plain distance can cancel and the loop checks it
 #: (:func:`events.exact_line_hit`); 0.0 on a compact table's walls, which skip the check
 #: (a wall at most ``LONG_WALL_RATIO`` times the smallest feature: the plain form's error,
-#: ``eps`` times the wall's length, is a few ulps of that feature).  Set by ``Scene.arrays``.
+#: ``eps`` times the wall's length, is a few ulps of that feature).  Set by ``Scene.arrays``;
+#: 0.0 on circles and arcs, so the loop tests the flag alone.
 LONG_WALL = 12
 #: A segment longer than this many times the table's smallest feature (shortest segment,
 #: smallest radius) is a long wall; a line always is (it has no end).

@@ -30,7 +30,7 @@ from .energy import SETTLE_EVERY, settle, state_energy
 from .jit import jit
 from .laws import collide
 from .layout import (
-    LINE, LONG_WALL, NOSLIP, SEGMENT, RECORD_LOG, RECORD_NONE, SPECULAR, STOP_CORNER, STOP_ESCAPE, STOP_GRAZING, STOP_LEVEL,
+    LONG_WALL, NOSLIP, RECORD_LOG, RECORD_NONE, SPECULAR, STOP_CORNER, STOP_ESCAPE, STOP_GRAZING, STOP_LEVEL,
     STOP_MAX_COLLISIONS, STOP_MAX_TIME,
 )
 from .records import record
@@ -220,7 +220,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None):
             if far:  # eps x flight length
                 rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
             px, py, nx, ny = place_on_element(kind, p, rx, ry)
-            if (kind == LINE or kind == SEGMENT) and p[LONG_WALL] != 0.0 and not far:  # eps x distance along it
+            if p[LONG_WALL] != 0.0 and not far:  # a long line or segment: eps x distance along it
                 t_hit, px, py, vx_in, vy_in = exact_line_hit(
                     kind, p, x - sx, y - sy, vx, vy, ax, ay, has_force, e == cur_e and o1 == cur_o1 and o2 == cur_o2,
                     t_hit, rx, ry, px, py, vx_in, vy_in)
