@@ -96,7 +96,7 @@ def label(flags):
     """``orbit_kernel(...)`` call text for a flag tuple."""
     if all(f is None for f in flags):
         return "general"
-    names = ("force", "spin", "lattice", "mode", "disks")
+    names = ("force", "spin", "lattice", "mode", "disks", "walls")
     modes = {NONE: "NONE", LOG: "LOG", layout.RECORD_PORTRAIT: "PORTRAIT"}
     parts = [f"{n}={modes[f] if n == 'mode' else f}" for n, f in zip(names, flags) if f is not None]
     return ", ".join(parts)

@@ -1,13 +1,14 @@
 """Specialised event loops give the general path's results, bit for bit (issue: pay only for what a scene needs).
 
-``orbit_kernel(force, spin, lattice, mode)`` fixes flags at compile time;
-``None`` reads them from the arguments.  On each scene every variant the scene
-can use (each flag fixed to the scene's value or left ``None``) must return the
-same 12 outputs and the same record rows as ``orbit_kernel()`` over 20,000
-collisions.  The fifth slot, ``disks`` (the lean loop of one disk per cell),
-is left ``None`` here: that loop agrees to rounding, not bit for bit, and is
-checked in ``tests/test_disk_lattice.py``.  The default run checks the scene's own variant and each flag fixed
-alone; ``-m stress`` checks every subset (81 compiled variants in all).
+``orbit_kernel(force, spin, lattice, mode, disks, walls)`` fixes flags at
+compile time; ``None`` reads them from the arguments.  On each scene every
+variant the scene can use (each flag fixed to the scene's value or left
+``None``) must return the same 12 outputs and the same record rows as
+``orbit_kernel()`` over 20,000 collisions.  The fifth slot, ``disks`` (the
+lean loop of disks on a lattice), is left ``None`` here: that loop agrees to
+rounding, not bit for bit, and is checked in ``tests/test_disk_lattice.py``.
+The default run checks the scene's own variant and each flag fixed alone;
+``-m stress`` checks every subset.
 """
 import functools
 import itertools
@@ -31,12 +32,14 @@ SCENES = {  # name -> (scene, start position, velocity, spin)
     "circle_gravity": (Scene([Circle((0.0, 0.0), 1.0, "inside")], force=(0.0, -1.0)), (0.1, 0.2), (0.4, 0.1), 0.1),
     "galton": (tables.galton_board(2.0, 0.5, 1.0), (1.0, 0.0), (0.3, 0.95), 0.1),
     "sinai_torus": (tables.sinai_torus(0.25), (0.45, 0.1), (0.83, 0.41), 0.1),
+    "wedge": (tables.wedge(0.6), (0.0, 1.0), (0.6, 0.8), 0.1),  # two lines: the loop with the long-wall check
 }
 LAWS = ("specular", "no-slip")
 CASES = [(name, law) for name in SCENES for law in LAWS]
 
-ALL_SUBSETS = [s for k in range(1, 5) for s in itertools.combinations(range(4), k)]
-FAST_SUBSETS = [(0, 1, 2, 3), (0,), (1,), (2,), (3,)]
+SLOTS = (0, 1, 2, 3, 5)  # force, spin, lattice, mode, walls (slot 4, disks, is another loop)
+ALL_SUBSETS = [s for k in range(1, len(SLOTS) + 1) for s in itertools.combinations(SLOTS, k)]
+FAST_SUBSETS = [SLOTS] + [(i,) for i in SLOTS]
 STRESS_SUBSETS = [s for s in ALL_SUBSETS if s not in FAST_SUBSETS]
 
 
@@ -133,14 +136,15 @@ def test_comparison_sees_one_ulp_and_a_wrong_law():
 @pytest.mark.parametrize("name,law", CASES)
 def test_kernel_variant_asks_only_for_what_the_scene_needs(name, law, mode):
     scene = scene_of(name, law)[0]
-    force, spin, lattice, m, disks = scene.kernel_variant(mode)
+    force, spin, lattice, m, disks, walls = scene.kernel_variant(mode)
     # exact bools: orbit_kernel tells "fixed False" from "read at run time" by identity (``is False``)
-    assert all(f is True or f is False for f in (force, spin, lattice, disks))
-    assert force is (name in ("circle_gravity", "galton"))
+    assert all(f is True or f is False for f in (force, spin, lattice, disks, walls))
+    assert force is (name in ("circle_gravity", "galton", "wedge"))
     assert spin is (law == "no-slip")
     assert lattice is (name in ("galton", "sinai_torus"))
     assert m == mode and type(m) is int
     assert disks is (name == "sinai_torus")
+    assert walls is (name == "wedge")
 
 
 @pytest.mark.parametrize("force,has", [((0.0, 0.0), False), ((0.0, -0.0), False), ((-0.0, -0.0), False),

@@ -117,11 +117,15 @@ def test_cases_reach_far_along_the_wall_where_the_state_is_exact():
 
 
 def test_only_long_walls_are_checked_for_a_cancelled_distance():
-    """A compact table's walls skip the long-wall check (it cost the pentagon 6-9 %); long ones keep it."""
+    """A compact table's walls skip the long-wall check (its code alone cost the pentagon 2 % and the Galton
+    board up to 20 %: such a table runs a loop compiled without it); long ones keep it."""
     from noslipsim.core import layout
 
     def flags(scene):
-        return scene.arrays()[1][:, layout.LONG_WALL].tolist()
+        column = scene.arrays()[1][:, layout.LONG_WALL].tolist()
+        # the scene's kernel has the check compiled in exactly when a wall is flagged
+        assert scene.kernel_variant(layout.RECORD_NONE)[5] is scene.has_long_walls is any(column)
+        return column
 
     a = 2 * np.pi * np.arange(5) / 5
     assert flags(tables.polygon(np.c_[np.cos(a), np.sin(a)])) == [0.0] * 5
@@ -131,3 +135,15 @@ def test_only_long_walls_are_checked_for_a_cancelled_distance():
     assert flags(tables.channel(1.0)) == [1.0, 1.0]  # a line has no end: always
     # a square whose disk is 16x smaller than its sides makes the sides long
     assert flags(tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 1.0 / 32)]))[:4] == [1.0] * 4
+
+
+def test_a_loop_compiled_without_the_check_is_off_far_along_the_wall(monkeypatch):
+    """The compile-time flag is what keeps these hits exact: the loop without the check (``walls=False``,
+    which every compact table runs) misses the bound here by orders of magnitude."""
+    from noslipsim import Scene
+
+    monkeypatch.setattr(Scene, "has_long_walls", property(lambda self: False))
+    for law, force in (("specular", "none"), ("no-slip", "onto_wall")):
+        rows = one_step_errors("centred", law, FORCES[force], LENGTH / 2)
+        worst = max(max(r["t_err"], r["v_err"] / r["force_gain"]) / r["bound"] for r in rows)
+        assert worst > 100, (law, force, worst)

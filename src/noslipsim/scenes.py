@@ -222,10 +222,22 @@ class Scene:
 
         A scene without force never pays for cubic or quartic exits, a
         specular one for spin updates, a plain one for the cell walk, and
-        ``mode = RECORD_NONE`` for the recorder.
+        ``mode = RECORD_NONE`` for the recorder, and a table without long walls
+        (:attr:`has_long_walls`) for their exact check.
         """
         return kernel_flags(self.force != (0.0, 0.0), self.law_code == layout.NOSLIP,
-                            self.lattice is not None, mode, self.disk_lattice)
+                            self.lattice is not None, mode, self.disk_lattice, self.has_long_walls)
+
+    @property
+    def has_long_walls(self):
+        """True if a line or a segment is long against the table's smallest feature (``layout.LONG_WALL``).
+
+        Only such a wall can carry a hit far from its ``p0``, where the plain
+        distance cancels; the event loop checks those hits exactly
+        (:func:`noslipsim.core.events.exact_line_hit`), and a table without
+        one runs a loop compiled without the check.
+        """
+        return any(flag != 0.0 for flag in self._long_walls())
 
     @property
     def disk_lattice(self):

@@ -31,9 +31,10 @@ KERNELS = {
     "galton": ["lattice+force:no-slip:final", "lattice+force:specular:final",
                "lattice+force:no-slip:orbit", "lattice+force:specular:orbit"],
     # wedges (simulate, monodromy, the periodic-orbit finder) and the two-disk grids (sync scheduler: serial kernels)
-    "stability": ["plain+force:no-slip:orbit", "plain:no-slip:orbit", "plain:no-slip:log",
-                  "plain:no-slip:count", "plain+force:no-slip:log", "plain+force:no-slip:count"],
-    "orbits": ["plain:specular:orbit", "plain:no-slip:orbit", "plain+force:no-slip:orbit"],
+    "stability": ["walls+force:no-slip:orbit", "plain:no-slip:orbit", "plain:no-slip:log",
+                  "plain:no-slip:count", "walls+force:no-slip:log", "walls+force:no-slip:count"],
+    # the rectangle and polygons; the bouncing ball (half-plane) and the wedges of Figure 6 under gravity
+    "orbits": ["plain:specular:orbit", "plain:no-slip:orbit", "walls+force:no-slip:orbit"],
     # portraits (lemon, polygons, closed hexagonal cell), first flights (final), Lyapunov runs (orbit);
     # the Sinai torus and the force-free hexagonal gas are "disks", the hexagonal gas under a force "lattice+force"
     "portraits": ["plain:specular:portrait", "plain:specular:final", "plain:specular:orbit",

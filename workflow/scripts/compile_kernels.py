@@ -22,6 +22,8 @@ TABLES = {
     "plain": lambda law: (tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.2)], law=law), (0.3, 0.5)),
     "plain+force": lambda law: (tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.2)], law=law, force=(0.0, -1.0)),
                                 (0.3, 0.5)),
+    # infinite walls (wedges, the half-plane) take the loop with the long-wall check (Scene.has_long_walls)
+    "walls+force": lambda law: (tables.wedge(0.6, law=law), (0.0, 1.0)),
     "lattice": lambda law: (tables.sinai_torus(0.25, law=law).replace(
         elements=tables.sinai_torus(0.25).elements + (ns.Circle((0.5, 0.5), 0.1),)), (0.3, 0.1)),
     "lattice+force": lambda law: (tables.galton_board(2.0, 0.5, law=law), (1.0, 0.5)),

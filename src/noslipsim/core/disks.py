@@ -151,12 +151,9 @@ def disk_walk(p, A, B, x, y, vx, vy, cur_o1, cur_o2, t_limit, max_cells):
     dy = ey
     d1 = 0
     d2 = 0
-    for k in range(max_cells):
+    for _ in range(min(max_cells, INCREMENTAL_CELLS)):
         if not (d1 == cur_o1 and d2 == cur_o2):
-            if k >= INCREMENTAL_CELLS:
-                t, hx, hy = _line_disk_far(A, d1, d2, ex, ey, vx, vy, ivv, rr)
-            else:
-                t, hx, hy = _line_disk(dx, dy, vx, vy, ivv, rr)
+            t, hx, hy = _line_disk(dx, dy, vx, vy, ivv, rr)
             if t < INF:
                 return t, d1, d2, hx, hy, 0
         t_out = min(ta, tb)
@@ -171,6 +168,29 @@ def disk_walk(p, A, B, x, y, vx, vy, cur_o1, cur_o2, t_limit, max_cells):
             d2 += s2
             dx -= wx
             dy -= wy
+            tb = max((d2 + 0.5 * s2 - b0) * ib, t_out)
+    # a flight past INCREMENTAL_CELLS cells goes on out of line: the walk above, the common case, stays as short
+    return _disk_walk_far(A, ex, ey, vx, vy, ivv, rr, d1, d2, s1, s2, a0, b0, ia, ib, ta, tb, cur_o1, cur_o2,
+                          t_limit, max_cells - INCREMENTAL_CELLS)
+
+
+@jit  # not inlined: reached by few flights, and inlined its code cost the walk above 3 % (benchmarks/RESULTS.md)
+def _disk_walk_far(A, ex, ey, vx, vy, ivv, rr, d1, d2, s1, s2, a0, b0, ia, ib, ta, tb, cur_o1, cur_o2, t_limit,
+                   max_cells):
+    """:func:`disk_walk` from its cell ``(d1, d2)`` on, past ``INCREMENTAL_CELLS``: each disk by :func:`_line_disk_far`."""
+    for _ in range(max_cells):
+        if not (d1 == cur_o1 and d2 == cur_o2):
+            t, hx, hy = _line_disk_far(A, d1, d2, ex, ey, vx, vy, ivv, rr)
+            if t < INF:
+                return t, d1, d2, hx, hy, 0
+        t_out = min(ta, tb)
+        if t_out >= t_limit:
+            return INF, 0, 0, 0.0, 0.0, 1
+        if ta == t_out:
+            d1 += s1
+            ta = max((d1 + 0.5 * s1 - a0) * ia, t_out)
+        if tb == t_out:
+            d2 += s2
             tb = max((d2 + 0.5 * s2 - b0) * ib, t_out)
     return INF, 0, 0, 0.0, 0.0, 2
 

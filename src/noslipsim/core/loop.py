@@ -69,13 +69,13 @@ def _contact(kinds, params, copies, A, lattice, x, y, vx, vy, ax, ay, cur_e, cur
 GENERAL = (None, None, None, None)
 
 
-def kernel_flags(has_force, noslip, lattice, mode, disks=False):
+def kernel_flags(has_force, noslip, lattice, mode, disks=False, walls=False):
     """The variant key for a scene: what its kernel needs, fixed at compile time."""
-    return bool(has_force), bool(noslip), bool(lattice), int(mode), bool(disks)
+    return bool(has_force), bool(noslip), bool(lattice), int(mode), bool(disks), bool(walls)
 
 
 @functools.lru_cache(maxsize=None)
-def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None):
+def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, walls=None):
     """The event loop compiled for one kind of scene: a scene pays only for what it needs.
 
     Each flag is a compile-time constant (``True``/``False``, or a record
@@ -92,6 +92,13 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None):
     :func:`disks.disk_lattice_kernel`,
     with the same arguments and outputs; it skips what such a scene cannot
     need and agrees with the general path to rounding, not bit for bit.
+
+    ``walls=False`` (no element flagged ``layout.LONG_WALL``: every polygon,
+    box or disk table whose walls are short against its smallest feature)
+    compiles the loop without the long-wall check (:func:`events.exact_line_hit`);
+    ``True`` or ``None`` test each line or segment hit for the flag.  The
+    check's code alone, never run, cost such scenes 2 to 20 % (the Galton
+    board the most; ``benchmarks/RESULTS.md``).
     """
     if disks:
         return disk_lattice_kernel(spin, mode)
@@ -103,6 +110,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None):
     LATTICE = bool(lattice)
     MODE_RT = mode is None
     MODE = RECORD_LOG if mode is None else int(mode)
+    WALLS = walls is None or bool(walls)  # a compile-time constant: False drops the long-wall check
 
     @jit
     def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, x, y, vx, vy, w,
@@ -162,7 +170,6 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None):
         # the energy to keep (energy.settle), twice the start's (gamma = 0 keeps the spin's apart, as specular)
         mixes = law == NOSLIP and s != 0.0  # the spin takes part in the energy exchange
         e0 = state_energy(vx, vy, w, mixes, ax, ay, x, y, has_force)[0]
-        settle_at = SETTLE_EVERY  # corner bounces may step n past a multiple of SETTLE_EVERY
         t = 0.0
         cur_e = start_element
         cur_o1 = 0
@@ -175,113 +182,119 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None):
         n_rec = 0
         n_corner = 0
         stop = STOP_MAX_COLLISIONS
-        while n < max_collisions:
-            if n >= settle_at:  # every SETTLE_EVERY collisions: the energy measured, given back if off
-                settle_at = n + SETTLE_EVERY
-                vx, vy, w = settle(vx, vy, w, mixes, ax, ay, x + ox, y + oy, has_force, e0)
-            length = max(scale, abs(x), abs(y))
-            extent_tol = EXTENT_TOL * length
-            remaining = max_time - t
-            t_level = INF
-            if stop_below > -INF:
-                t_level = quadratic_exit(y + oy - stop_below, vy, 0.5 * ay, INF)
-            if lattice:
-                limit = min(remaining, t_level)
-                t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay,
-                                                    has_force, cur_e, cur_o1, cur_o2, limit, extent_tol,
-                                                    MAX_CELLS_PER_FLIGHT)
-                escape = status == 2 or (status == 1 and limit == INF)
-            else:
-                t_hit, e, o1, o2 = hit_in_cell(kinds, params, copies, A, 0, 0, x, y, vx, vy, ax, ay,
-                                               has_force, cur_e, cur_o1, cur_o2, INF, extent_tol, 0.0, False)
-                escape = e < 0  # no element ahead: the orbit leaves for good
-            if t_level < INF and t_level <= t_hit and t_level <= remaining:
-                x, y, vx, vy = advance(x, y, vx, vy, ax, ay, t_level, has_force)
-                y = stop_below - oy
-                t += t_level
-                stop = STOP_LEVEL
-                break
-            if escape:
-                stop = STOP_ESCAPE
-                break
-            if e < 0 or t_hit > remaining:
-                x, y, vx, vy = advance(x, y, vx, vy, ax, ay, remaining, has_force)
-                t = max_time
-                stop = STOP_MAX_TIME
-                break
-            # relocate onto the element copy, then resolve the collision
-            hx, hy, vx_in, vy_in = advance(x, y, vx, vy, ax, ay, t_hit, has_force)
-            kind = kinds[e]
-            p = params[e]
-            sx, sy = copy_shift(A, o1, o2, lattice)
-            rx = hx - sx
-            ry = hy - sy
-            far = lattice and not has_force and max(abs(o1), abs(o2)) >= FAR_CELLS
-            if far:  # eps x flight length
-                rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
-            px, py, nx, ny = place_on_element(kind, p, rx, ry)
-            if p[LONG_WALL] != 0.0 and not far:  # a long line or segment: eps x distance along it
-                t_hit, px, py, vx_in, vy_in = exact_line_hit(
-                    kind, p, x - sx, y - sy, vx, vy, ax, ay, has_force, e == cur_e and o1 == cur_o1 and o2 == cur_o2,
-                    t_hit, rx, ry, px, py, vx_in, vy_in)
-            x = px + sx
-            y = py + sy
-            if lattice:  # re-base onto the cell that now holds the particle
-                k1, k2 = nearest_cell(B, x, y)
-                if k1 != 0 or k2 != 0:
-                    dx, dy = lattice_shift(A, k1, k2)
-                    x -= dx
-                    y -= dy
-                    m1 += k1
-                    m2 += k2
-                    o1 -= k1
-                    o2 -= k2
-                    ox, oy = lattice_shift(A, m1, m2)
-                    sx, sy = lattice_shift(A, o1, o2)
-            vx, vy, w_out = collide(law, c, s, vx_in, vy_in, w, nx, ny)
-            t += t_hit
-            if mode != RECORD_NONE:
-                n_rec = record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w_out, vx_in, vy_in, w,
-                                kind, p, sx, sy, e, 0.0, nx, ny)
-            w = w_out
-            n += 1
-            cur_e = e
-            cur_o1 = o1
-            cur_o2 = o2
-            # corner rule: other element copies touched here that the particle would leave through
-            bounces = 0
-            near = _near_junction(jstart, jpts, e, x - sx, y - sy, JUNCTION_GATE * length)
-            while near and n < max_collisions:
-                j, o1, o2 = _contact(kinds, params, copies, A, lattice, x, y, vx, vy, ax, ay,
-                                     cur_e, cur_o1, cur_o2, CONTACT_TOL * length)
-                if j < 0:
+        # blocks of SETTLE_EVERY collisions (corner bounces may step past a block's end), the energy
+        # measured and given back between two (energy.settle): the call stays out of the inner loop, whose
+        # registers it would otherwise spill (1-2 % on the pentagon and the Sinai box, no-slip)
+        block_end = min(max_collisions, SETTLE_EVERY)
+        while True:
+            while n < block_end:
+                length = max(scale, abs(x), abs(y))
+                extent_tol = EXTENT_TOL * length
+                remaining = max_time - t
+                t_level = INF
+                if stop_below > -INF:
+                    t_level = quadratic_exit(y + oy - stop_below, vy, 0.5 * ay, INF)
+                if lattice:
+                    limit = min(remaining, t_level)
+                    t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay,
+                                                        has_force, cur_e, cur_o1, cur_o2, limit, extent_tol,
+                                                        MAX_CELLS_PER_FLIGHT)
+                    escape = status == 2 or (status == 1 and limit == INF)
+                else:
+                    t_hit, e, o1, o2 = hit_in_cell(kinds, params, copies, A, 0, 0, x, y, vx, vy, ax, ay,
+                                                   has_force, cur_e, cur_o1, cur_o2, INF, extent_tol, 0.0, False)
+                    escape = e < 0  # no element ahead: the orbit leaves for good
+                if t_level < INF and t_level <= t_hit and t_level <= remaining:
+                    x, y, vx, vy = advance(x, y, vx, vy, ax, ay, t_level, has_force)
+                    y = stop_below - oy
+                    t += t_level
+                    stop = STOP_LEVEL
                     break
-                bounces += 1
-                if bounces > MAX_CORNER_BOUNCES:
-                    stop = STOP_CORNER
+                if escape:
+                    stop = STOP_ESCAPE
                     break
-                kind = kinds[j]
-                p = params[j]
+                if e < 0 or t_hit > remaining:
+                    x, y, vx, vy = advance(x, y, vx, vy, ax, ay, remaining, has_force)
+                    t = max_time
+                    stop = STOP_MAX_TIME
+                    break
+                # relocate onto the element copy, then resolve the collision
+                hx, hy, vx_in, vy_in = advance(x, y, vx, vy, ax, ay, t_hit, has_force)
+                kind = kinds[e]
+                p = params[e]
                 sx, sy = copy_shift(A, o1, o2, lattice)
-                nx, ny = place_on_element(kind, p, x - sx, y - sy)[2:]
-                vx_in = vx
-                vy_in = vy
+                rx = hx - sx
+                ry = hy - sy
+                far = lattice and not has_force and max(abs(o1), abs(o2)) >= FAR_CELLS
+                if far:  # eps x flight length
+                    rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
+                px, py, nx, ny = place_on_element(kind, p, rx, ry)
+                if WALLS and p[LONG_WALL] != 0.0 and not far:  # a long line or segment: eps x distance along it
+                    t_hit, px, py, vx_in, vy_in = exact_line_hit(
+                        kind, p, x - sx, y - sy, vx, vy, ax, ay, has_force, e == cur_e and o1 == cur_o1 and o2 == cur_o2,
+                        t_hit, rx, ry, px, py, vx_in, vy_in)
+                x = px + sx
+                y = py + sy
+                if lattice:  # re-base onto the cell that now holds the particle
+                    k1, k2 = nearest_cell(B, x, y)
+                    if k1 != 0 or k2 != 0:
+                        dx, dy = lattice_shift(A, k1, k2)
+                        x -= dx
+                        y -= dy
+                        m1 += k1
+                        m2 += k2
+                        o1 -= k1
+                        o2 -= k2
+                        ox, oy = lattice_shift(A, m1, m2)
+                        sx, sy = lattice_shift(A, o1, o2)
                 vx, vy, w_out = collide(law, c, s, vx_in, vy_in, w, nx, ny)
+                t += t_hit
                 if mode != RECORD_NONE:
-                    n_rec = record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w_out, vx_in, vy_in,
-                                    w, kind, p, sx, sy, j, 1.0, nx, ny)
+                    n_rec = record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w_out, vx_in, vy_in, w,
+                                    kind, p, sx, sy, e, 0.0, nx, ny)
                 w = w_out
                 n += 1
-                n_corner += 1
-                cur_e = j
+                cur_e = e
                 cur_o1 = o1
                 cur_o2 = o2
-            if stop == STOP_CORNER:
+                # corner rule: other element copies touched here that the particle would leave through
+                bounces = 0
+                near = _near_junction(jstart, jpts, e, x - sx, y - sy, JUNCTION_GATE * length)
+                while near and n < max_collisions:
+                    j, o1, o2 = _contact(kinds, params, copies, A, lattice, x, y, vx, vy, ax, ay,
+                                         cur_e, cur_o1, cur_o2, CONTACT_TOL * length)
+                    if j < 0:
+                        break
+                    bounces += 1
+                    if bounces > MAX_CORNER_BOUNCES:
+                        stop = STOP_CORNER
+                        break
+                    kind = kinds[j]
+                    p = params[j]
+                    sx, sy = copy_shift(A, o1, o2, lattice)
+                    nx, ny = place_on_element(kind, p, x - sx, y - sy)[2:]
+                    vx_in = vx
+                    vy_in = vy
+                    vx, vy, w_out = collide(law, c, s, vx_in, vy_in, w, nx, ny)
+                    if mode != RECORD_NONE:
+                        n_rec = record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w_out, vx_in, vy_in,
+                                        w, kind, p, sx, sy, j, 1.0, nx, ny)
+                    w = w_out
+                    n += 1
+                    n_corner += 1
+                    cur_e = j
+                    cur_o1 = o1
+                    cur_o2 = o2
+                if stop == STOP_CORNER:
+                    break
+                sx, sy = copy_shift(A, cur_o1, cur_o2, lattice)
+                if slides_off(kinds[cur_e], params[cur_e], x - sx, y - sy, vx, vy, ax, ay):
+                    stop = STOP_GRAZING
+                    break
+            if stop != STOP_MAX_COLLISIONS or n >= max_collisions:  # stopped inside the block, or done
                 break
-            sx, sy = copy_shift(A, cur_o1, cur_o2, lattice)
-            if slides_off(kinds[cur_e], params[cur_e], x - sx, y - sy, vx, vy, ax, ay):
-                stop = STOP_GRAZING
-                break
+            vx, vy, w = settle(vx, vy, w, mixes, ax, ay, x + ox, y + oy, has_force, e0)
+            block_end = min(max_collisions, n + SETTLE_EVERY)
         if lattice:  # the final state may lie in another cell (a stop in mid-flight)
             k1, k2 = nearest_cell(B, x, y)
             m1 += k1
