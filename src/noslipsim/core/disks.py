@@ -354,109 +354,115 @@ def _disk_loop(spin, mode, one):
         n = 0
         n_rec = 0
         stop = STOP_MAX_COLLISIONS
-        while n < max_collisions:
-            remaining = max_time - t
-            t_level = INF
-            oy = 0.0
-            if stop_below > -INF:
-                oy = lattice_shift(A, m1, m2)[1]
-                t_level = linear_exit(y + oy - stop_below, vy, INF)
-            limit = min(remaining, t_level)
-            if ONE:
-                t_hit, o1, o2, hx, hy, status = disk_walk(params[e0], A, B, x, y, vx, vy, cur_o1, cur_o2, limit,
-                                                          MAX_CELLS_PER_FLIGHT)
-                j = 0
-            else:
-                t_hit, o1, o2, j, hx, hy, status = disks_walk(params, copies, inside, A, B, x, y, vx, vy, cur_e,
-                                                              cur_o1, cur_o2, limit, MAX_CELLS_PER_FLIGHT)
-            if t_level < INF and t_level <= t_hit and t_level <= remaining:
-                x = x + t_level * vx
-                y = stop_below - oy
-                t += t_level
-                stop = STOP_LEVEL
+        # blocks of SETTLE_EVERY collisions, the energy measured and given back between two
+        # (energy.settle): the call stays out of the collision loop (as in loop.py)
+        block_end = min(max_collisions, SETTLE_EVERY)
+        while True:
+            while n < block_end:
+                remaining = max_time - t
+                t_level = INF
+                oy = 0.0
+                if stop_below > -INF:
+                    oy = lattice_shift(A, m1, m2)[1]
+                    t_level = linear_exit(y + oy - stop_below, vy, INF)
+                limit = min(remaining, t_level)
+                if ONE:
+                    t_hit, o1, o2, hx, hy, status = disk_walk(params[e0], A, B, x, y, vx, vy, cur_o1, cur_o2, limit,
+                                                              MAX_CELLS_PER_FLIGHT)
+                    j = 0
+                else:
+                    t_hit, o1, o2, j, hx, hy, status = disks_walk(params, copies, inside, A, B, x, y, vx, vy, cur_e,
+                                                                  cur_o1, cur_o2, limit, MAX_CELLS_PER_FLIGHT)
+                if t_level < INF and t_level <= t_hit and t_level <= remaining:
+                    x = x + t_level * vx
+                    y = stop_below - oy
+                    t += t_level
+                    stop = STOP_LEVEL
+                    break
+                if status == 2 or (status == 1 and limit == INF):
+                    stop = STOP_ESCAPE
+                    break
+                if status != 0 or t_hit > remaining:
+                    x = x + remaining * vx
+                    y = y + remaining * vy
+                    t = max_time
+                    stop = STOP_MAX_TIME
+                    break
+                # the particle is now at c + h, relative to walk cell (o1, o2), on the disk of element e
+                # in cell (o1 + cur_o1, o2 + cur_o2)
+                e = e0
+                ir = ir0
+                cur_o1 = 0
+                cur_o2 = 0
+                if not ONE:
+                    e = copies[j, 0]
+                    ir = 1.0 / params[e, 2]
+                    cur_o1 = copies[j, 1]
+                    cur_o2 = copies[j, 2]
+                p = params[e]
+                ir2 = ir * ir
+                x = p[0] + hx
+                y = p[1] + hy
+                if not ONE and not inside:  # a disk reaching into other cells: re-base onto the cell that holds the hit point
+                    if cur_o1 != 0 or cur_o2 != 0:
+                        sx, sy = lattice_shift(A, cur_o1, cur_o2)
+                        x += sx
+                        y += sy
+                    k1, k2 = nearest_cell(B, x, y)
+                    if k1 != 0 or k2 != 0:
+                        sx, sy = lattice_shift(A, k1, k2)
+                        x -= sx
+                        y -= sy
+                        o1 += k1
+                        o2 += k2
+                        cur_o1 -= k1
+                        cur_o2 -= k2
+                cur_e = e
+                m1 += o1
+                m2 += o2
+                vx_in = vx
+                vy_in = vy
+                w_in = w
+                nx = 0.0
+                ny = 0.0
+                if law == NOSLIP or mode == RECORD_PORTRAIT:
+                    # n = -h/|h| with no division or square root waiting on h: with a = h/r and g = |a|^2 - 1
+                    # (a few ulps; by fma, so nothing is rounded at 1), h/|h| = a (1 - g/2) to g^2, and the
+                    # correction enters each component before its one rounding (docs/algorithm.md section 0)
+                    ax_ = hx * ir
+                    ay_ = hy * ir
+                    g = fma(ax_, ax_, fma(ay_, ay_, -1.0))
+                    if abs(g) < NEWTON_DELTA:
+                        hg = 0.5 * g
+                        nx = -fma(hx, ir, -hg * ax_)
+                        ny = -fma(hy, ir, -hg * ay_)
+                    else:  # a hit point far off the circle (the end of a very long flight)
+                        irho = 1.0 / math.sqrt(hx * hx + hy * hy)
+                        nx = -hx * irho
+                        ny = -hy * irho
+                if law == NOSLIP:
+                    vx, vy, w = collide(law, c, s, vx, vy, w, nx, ny)
+                else:  # the reflection in the line through h; 1/|h|^2 one Newton step from 1/r^2
+                    hh = hx * hx + hy * hy
+                    delta = hh * ir2 - 1.0
+                    ihh = ir2 * (1.0 - delta) if abs(delta) < NEWTON_DELTA else 1.0 / hh
+                    k = 2.0 * (vx * hx + vy * hy) * ihh
+                    vx -= k * hx
+                    vy -= k * hy
+                t += t_hit
+                n += 1
+                if mode != RECORD_NONE:
+                    ox, oy = lattice_shift(A, m1, m2)
+                    sx = 0.0
+                    sy = 0.0
+                    if cur_o1 != 0 or cur_o2 != 0:
+                        sx, sy = lattice_shift(A, cur_o1, cur_o2)
+                    n_rec = record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w, vx_in, vy_in, w_in,
+                                   CIRCLE, p, sx, sy, e, 0.0, nx, ny)
+            if stop != STOP_MAX_COLLISIONS or n >= max_collisions:  # stopped inside the block, or done
                 break
-            if status == 2 or (status == 1 and limit == INF):
-                stop = STOP_ESCAPE
-                break
-            if status != 0 or t_hit > remaining:
-                x = x + remaining * vx
-                y = y + remaining * vy
-                t = max_time
-                stop = STOP_MAX_TIME
-                break
-            # the particle is now at c + h, relative to walk cell (o1, o2), on the disk of element e
-            # in cell (o1 + cur_o1, o2 + cur_o2)
-            e = e0
-            ir = ir0
-            cur_o1 = 0
-            cur_o2 = 0
-            if not ONE:
-                e = copies[j, 0]
-                ir = 1.0 / params[e, 2]
-                cur_o1 = copies[j, 1]
-                cur_o2 = copies[j, 2]
-            p = params[e]
-            ir2 = ir * ir
-            x = p[0] + hx
-            y = p[1] + hy
-            if not ONE and not inside:  # a disk reaching into other cells: re-base onto the cell that holds the hit point
-                if cur_o1 != 0 or cur_o2 != 0:
-                    sx, sy = lattice_shift(A, cur_o1, cur_o2)
-                    x += sx
-                    y += sy
-                k1, k2 = nearest_cell(B, x, y)
-                if k1 != 0 or k2 != 0:
-                    sx, sy = lattice_shift(A, k1, k2)
-                    x -= sx
-                    y -= sy
-                    o1 += k1
-                    o2 += k2
-                    cur_o1 -= k1
-                    cur_o2 -= k2
-            cur_e = e
-            m1 += o1
-            m2 += o2
-            vx_in = vx
-            vy_in = vy
-            w_in = w
-            nx = 0.0
-            ny = 0.0
-            if law == NOSLIP or mode == RECORD_PORTRAIT:
-                # n = -h/|h| with no division or square root waiting on h: with a = h/r and g = |a|^2 - 1
-                # (a few ulps; by fma, so nothing is rounded at 1), h/|h| = a (1 - g/2) to g^2, and the
-                # correction enters each component before its one rounding (docs/algorithm.md section 0)
-                ax_ = hx * ir
-                ay_ = hy * ir
-                g = fma(ax_, ax_, fma(ay_, ay_, -1.0))
-                if abs(g) < NEWTON_DELTA:
-                    hg = 0.5 * g
-                    nx = -fma(hx, ir, -hg * ax_)
-                    ny = -fma(hy, ir, -hg * ay_)
-                else:  # a hit point far off the circle (the end of a very long flight)
-                    irho = 1.0 / math.sqrt(hx * hx + hy * hy)
-                    nx = -hx * irho
-                    ny = -hy * irho
-            if law == NOSLIP:
-                vx, vy, w = collide(law, c, s, vx, vy, w, nx, ny)
-            else:  # the reflection in the line through h; 1/|h|^2 one Newton step from 1/r^2
-                hh = hx * hx + hy * hy
-                delta = hh * ir2 - 1.0
-                ihh = ir2 * (1.0 - delta) if abs(delta) < NEWTON_DELTA else 1.0 / hh
-                k = 2.0 * (vx * hx + vy * hy) * ihh
-                vx -= k * hx
-                vy -= k * hy
-            t += t_hit
-            n += 1
-            if mode != RECORD_NONE:
-                ox, oy = lattice_shift(A, m1, m2)
-                sx = 0.0
-                sy = 0.0
-                if cur_o1 != 0 or cur_o2 != 0:
-                    sx, sy = lattice_shift(A, cur_o1, cur_o2)
-                n_rec = record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w, vx_in, vy_in, w_in,
-                               CIRCLE, p, sx, sy, e, 0.0, nx, ny)
-            if n % SETTLE_EVERY == 0:  # the energy measured, given back if off (the next flight's v)
-                vx, vy, w = settle(vx, vy, w, mixes, 0.0, 0.0, 0.0, 0.0, False, energy0)
+            vx, vy, w = settle(vx, vy, w, mixes, 0.0, 0.0, 0.0, 0.0, False, energy0)
+            block_end = min(max_collisions, n + SETTLE_EVERY)
         ox, oy = lattice_shift(A, m1, m2)
         # the final state may lie in another cell (a stop in mid-flight)
         k1, k2 = nearest_cell(B, x, y)
