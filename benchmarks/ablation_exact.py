@@ -4,11 +4,17 @@ The baseline is the event loop of commit ``BASE`` (the branch point), imported i
 same process from a copy of its sources under the package name ``noslipsim_old``
 (``git archive``; the package imports itself only relatively, and the copy keeps its
 own numba cache).  Both kernels get the same kernel inputs (the new layout's extra
-columns are ignored by the old loop) and run interleaved, best of three, on each
-scene's own kernel variant (``scene.kernel_variant(RECORD_NONE)``): the Sinai torus
-and the hexagonal Lorentz cell (lean loop, ``core/disks.py``), the Galton board
-(general lattice loop under a force), the pentagon and the Sinai box (plain scenes:
-the segment crossing changed).
+columns are ignored by the old loop) on each scene's own kernel variant
+(``scene.kernel_variant(RECORD_NONE)``): the Sinai torus and the hexagonal Lorentz
+cell (lean loop, ``core/disks.py``), the Galton board (general lattice loop under a
+force), the pentagon and the Sinai box (plain scenes: the segment crossing changed).
+
+Timing: ``ROUNDS`` rounds, each running the old kernel, the new one and the old one
+again (one orbit of ``N_TIMED`` collisions each, same start); the table gives the
+median and quartiles of new/old and, as the control, of old-again/old (A/A): what
+the method scatters with no change at all.  Differences of a percent or two are not
+resolved by any method here: the same kernel with never-run code added after its
+loop moves by up to 2 % (``benchmarks/layout_probe.py``).
 
 Bits: the final states after N collisions are compared bit for bit.  Where they
 differ, the per-flight check says by how much each flight differs: both kernels are
@@ -17,7 +23,8 @@ the element just hit) and their next collisions (time, position, velocity, spin,
 cell) must agree to 1e-12.
 
 Run: ``python benchmarks/ablation_exact.py`` (appends its table to
-``benchmarks/results/ablation.md``).
+``benchmarks/results/ablation.md``;
+``ABLATION_ROUNDS`` sets the rounds, ``ABLATION_BASE`` the commit).
 """
 import datetime
 import os
@@ -26,6 +33,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 
 import numpy as np
 
@@ -34,7 +42,7 @@ from noslipsim.core import layout
 from noslipsim.core.loop import orbit_kernel
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ablation import N, Orbit, timed
+from ablation import Orbit
 from machine import cpu_model
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -44,6 +52,9 @@ OUT = os.path.join(HERE, "results", "ablation.md")
 BASE = os.environ.get("ABLATION_BASE", "c1ce5d5")
 NONE, LOG = layout.RECORD_NONE, layout.RECORD_LOG
 N_CHECK = 1000
+#: Interleaved rounds and collisions per timed orbit.
+ROUNDS = int(os.environ.get("ABLATION_ROUNDS", "25"))
+N_TIMED = 1_000_000
 #: The base's kernel flags (force, spin, lattice, mode, disks); ``walls`` came later.
 OLD_SLOTS = 5
 TOL = 1e-12
@@ -99,13 +110,40 @@ def per_flight(scene, q, v, w, old_log_kernel, new_log_kernel):
     return agree, same_bits, worst
 
 
+def rounds(orbit, old_k, new_k):
+    """The old kernel's median rate, per round new/old and old-again/old (``ROUNDS`` interleaved rounds), both final states."""
+    for k in (old_k, new_k):
+        orbit.run(k, 10, NONE)  # compile (or load from the cache)
+    ratios, control, olds = [], [], []
+    for _ in range(ROUNDS):
+        rates = []
+        for k in (old_k, new_k, old_k):
+            t0 = time.perf_counter()
+            out = orbit.run(k, N_TIMED, NONE)
+            rates.append(out[0] / (time.perf_counter() - t0))
+            if k is new_k:
+                out_new = out
+            else:
+                out_old = out
+        ratios.append(rates[1] / rates[0])
+        control.append(rates[2] / rates[0])
+        olds.append(rates[0])
+    return float(np.median(olds)), np.array(ratios), np.array(control), out_old, out_new
+
+
+def quartiles(x):
+    q1, med, q3 = np.percentile(x, [25, 50, 75])
+    return f"{med:.3f} [{q1:.3f}, {q3:.3f}]"
+
+
 def main():
     old_loop = old_package()
     machine = (f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python "
                f"{platform.python_version()} | numpy {np.__version__} | load {os.getloadavg()[0]:.2f}")
     print(machine)
-    header = ("| scene, law | variant | before (BASE) coll/s | exact coll/s | ratio | final state after N "
-              "| per flight (1000, restarted from the old state) |\n|---|---|---:|---:|---:|---|---|")
+    header = ("| scene, law | variant | before (BASE) coll/s, median | after / before, median [quartiles] "
+              "| A/A control | final state after N | per flight (1000, restarted from the old state) |\n"
+              "|---|---|---:|---:|---:|---|---|")
     print(header, flush=True)
     rows = []
     for name, (base, q, v, w) in SCENES.items():
@@ -113,31 +151,32 @@ def main():
             scene = base.replace(law=law)
             flags = scene.kernel_variant(NONE)
             old_k, new_k = old_loop.orbit_kernel(*flags[:OLD_SLOTS]), orbit_kernel(*flags)
-            (rate_old, rate_new), (out_old, out_new) = timed(Orbit(scene, q, v, w), [(old_k, NONE), (new_k, NONE)])
+            orbit = Orbit(scene, q, v, w)
+            rate_old, ratios, control, out_old, out_new = rounds(orbit, old_k, new_k)
             same = np.array_equal(np.array(out_old, dtype=np.float64).view(np.int64),
                                   np.array(out_new, dtype=np.float64).view(np.int64))
             log_flags = scene.kernel_variant(LOG)
             agree, same_bits, worst = per_flight(scene, q, v, w,
                                                  old_loop.orbit_kernel(*log_flags[:OLD_SLOTS]), orbit_kernel(*log_flags))
-            row = (f"| {name}, {law} | {label(flags)} | {rate_old:,.0f} | {rate_new:,.0f} | "
-                   f"{rate_new / rate_old:.2f} | {'bitwise identical' if same else 'differs'} "
+            row = (f"| {name}, {law} | {label(flags)} | {rate_old:,.0f} | {quartiles(ratios)} | {quartiles(control)} "
+                   f"| {'bitwise identical' if same else 'differs'} "
                    f"| {agree}/{N_CHECK} within {TOL:g} (max dev {worst:.1e}), {same_bits}/{N_CHECK} bitwise |")
             rows.append(row)
             print(row, flush=True)
     when = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
     with open(OUT, "a", encoding="utf-8") as fh:
-        fh.write("\n## Exact long flights and long walls (issue 13, item 3): before vs after\n\n")
+        fh.write("\n## The kernels against the wave's start (issue 13): exact long flights, energy kept\n\n")
         fh.write(f"Command: `python benchmarks/ablation_exact.py` ({when})\n\n{machine}\n\n")
-        fh.write(f"Collisions/s of one orbit of {N:,} collisions, best of three interleaved "
-                 f"runs, each scene's own kernel variant; 'before' is the same variant compiled from commit "
-                 f"{BASE} (the branch point) in the same process. Changed evaluation: far cells of the lean "
-                 "disk loop (past 16 cells: exact lattice offset, compensated cross product), straight hits "
-                 "16 or more cells away in the general lattice loop (cells.far_hit_point), and on the element "
-                 "hit of every loop a line's or segment's distance where its plain form cancels "
-                 "(events.exact_line_hit: compensated, from the segment's own end points; two gates per "
-                 "collision). Per flight: both kernels restarted from the old kernel's state "
-                 "after each of the first 1000 collisions; deviations of time, velocity, spin (absolute) and "
-                 "position (relative to max(scale, |q|)).\n\n")
+        fh.write(f"{ROUNDS} interleaved rounds of one orbit of {N_TIMED:,} collisions each (old, new, old again), "
+                 f"each scene's own kernel variant; 'before' is the same variant compiled from commit "
+                 f"{BASE} in the same process; the A/A control is the old kernel's second run over its first. "
+                 "Changed since: far cells of the lean disk loop (past 16 cells, out of line: exact lattice "
+                 "offset, compensated cross product), straight hits 16 or more cells away in the general "
+                 "lattice loop (cells.far_hit_point), a line's or segment's distance on tables with a long wall "
+                 "(events.exact_line_hit; other tables run a loop compiled without it, kernel flag walls), and "
+                 "the energy settled between blocks of 256 collisions (core/energy.py). Per flight: both "
+                 "kernels restarted from the old kernel's state after each of the first 1000 collisions; "
+                 "deviations of time, velocity, spin (absolute) and position (relative to max(scale, |q|)).\n\n")
         fh.write(header + "\n" + "\n".join(rows) + "\n")
     print(f"\nappended to {os.path.relpath(OUT)}")
 

@@ -1,0 +1,127 @@
+"""How far a kernel's speed moves when only its code layout changes: the resolution of an ablation.
+
+The same event loop (commit ``BASE``, each scene's own kernel variant) is compiled
+three more times, each a copy of the package under another name: once unchanged
+(the control), and twice with a branch that never runs added after the collision
+loop (``if n == -12345: ...`` calling ``sin``/``exp`` or ``atan2``/``log1p``/...).
+The branch computes nothing on any orbit; it only moves the loop's machine code
+and changes the registers the compiler has to plan for.  Each round times one
+orbit of ``N_TIMED`` collisions with every kernel, interleaved; the table gives
+the median and quartiles of each copy's rate over the original's.
+
+A change to a kernel that moves its rate by less than the "never-run code" rows
+do is not resolved: it cannot be told from where the code happens to land.
+Run: ``python benchmarks/layout_probe.py`` (appends its table to
+``benchmarks/results/ablation.md``; ``ABLATION_ROUNDS``, ``ABLATION_BASE`` as in
+``ablation_exact.py``).
+"""
+import datetime
+import os
+import platform
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+from noslipsim import tables
+from noslipsim.core import layout
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ablation import Orbit  # noqa: E402
+from machine import cpu_model  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+OUT = os.path.join(HERE, "results", "ablation.md")
+BASE = os.environ.get("ABLATION_BASE", "c1ce5d5")
+ROUNDS = int(os.environ.get("ABLATION_ROUNDS", "25"))
+N_TIMED = 1_000_000
+NONE = layout.RECORD_NONE
+
+#: Where the never-run branch goes: before the loop's final re-basing (the general loop).
+ANCHOR = "        if lattice:  # the final state may lie in another cell (a stop in mid-flight)\n"
+COLD = {
+    "control (unchanged copy)": "",
+    "never-run branch A": ("        if n == -12345:  # never: only moves code\n"
+                           "            vx = math.sin(vx) * math.cos(vy) + math.exp(w)\n"),
+    "never-run branch B": ("        if n == -12345:  # never: only moves code\n"
+                           "            vx = math.atan2(vx, vy) + math.log1p(abs(w)) * math.tanh(x)\n"
+                           "            vy = math.sinh(vy) - math.expm1(y)\n"),
+}
+SCENES = {  # the general loop's fastest scenes: plain tables without force
+    "pentagon": (tables.regular_polygon(5), (0.1, 0.05), (0.83, 0.41), 0.1),
+    "Sinai box": (tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)]), (0.1, 0.1), (0.6, 0.8), 0.1),
+}
+
+
+def copy_of_base(name, cold):
+    """The package at ``BASE`` as ``name`` (importable), with ``cold`` inserted before ``ANCHOR`` in core/loop.py."""
+    where = os.path.join(tempfile.gettempdir(), f"noslipsim_probe_{BASE}")
+    pkg = os.path.join(where, name)
+    if os.path.isdir(pkg):
+        shutil.rmtree(pkg)
+    tmp = tempfile.mkdtemp()
+    archive = subprocess.run(["git", "-C", ROOT, "archive", BASE, "src/noslipsim"], check=True,
+                             capture_output=True).stdout
+    subprocess.run(["tar", "-x", "-C", tmp], input=archive, check=True)
+    os.makedirs(where, exist_ok=True)
+    shutil.move(os.path.join(tmp, "src", "noslipsim"), pkg)
+    path = os.path.join(pkg, "core", "loop.py")
+    text = open(path, encoding="utf-8").read()
+    if text.count(ANCHOR) != 1:
+        raise SystemExit(f"core/loop.py at {BASE}: the anchor line is not there once")
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write(text.replace(ANCHOR, cold + ANCHOR))
+    if where not in sys.path:
+        sys.path.insert(0, where)
+    return __import__(f"{name}.core.loop", fromlist=["orbit_kernel"])
+
+
+def main():
+    loops = {"original": copy_of_base("noslipsim_probe0", "")}
+    for i, (label, cold) in enumerate(COLD.items(), start=1):
+        loops[label] = copy_of_base(f"noslipsim_probe{i}", cold)
+    machine = (f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python "
+               f"{platform.python_version()} | numpy {np.__version__} | load {os.getloadavg()[0]:.2f}")
+    print(machine)
+    header = ("| scene, law | " + " | ".join(COLD) + " |\n|---|" + "---:|" * len(COLD))
+    print(header, flush=True)
+    rows = []
+    for name, (base, q, v, w) in SCENES.items():
+        for law in ("specular", "no-slip"):
+            scene = base.replace(law=law)
+            flags = scene.kernel_variant(NONE)[:5]  # the flags BASE knows
+            kernels = {label: loop.orbit_kernel(*flags) for label, loop in loops.items()}
+            orbit = Orbit(scene, q, v, w)
+            for k in kernels.values():
+                orbit.run(k, 10, NONE)
+            ratios = {label: [] for label in COLD}
+            for _ in range(ROUNDS):
+                rates = {}
+                for label, k in kernels.items():
+                    t0 = time.perf_counter()
+                    rates[label] = orbit.run(k, N_TIMED, NONE)[0] / (time.perf_counter() - t0)
+                for label in COLD:
+                    ratios[label].append(rates[label] / rates["original"])
+            cells = []
+            for label in COLD:
+                q1, med, q3 = np.percentile(ratios[label], [25, 50, 75])
+                cells.append(f"{med:.3f} [{q1:.3f}, {q3:.3f}]")
+            rows.append(f"| {name}, {law} | " + " | ".join(cells) + " |")
+            print(rows[-1], flush=True)
+    when = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
+    with open(OUT, "a", encoding="utf-8") as fh:
+        fh.write("\n## Layout probe: the same kernel with never-run code added (resolution of an ablation)\n\n")
+        fh.write(f"Command: `python benchmarks/layout_probe.py` ({when})\n\n{machine}\n\n")
+        fh.write(f"The general loop of commit {BASE}, each scene's own variant, against copies of itself: "
+                 f"median [quartiles] of the copy's rate over the original's, {ROUNDS} interleaved rounds of "
+                 f"one orbit of {N_TIMED:,} collisions. The never-run branches compute nothing on any orbit.\n\n")
+        fh.write(header + "\n" + "\n".join(rows) + "\n")
+    print(f"\nappended to {os.path.relpath(OUT)}")
+
+
+if __name__ == "__main__":
+    main()
