@@ -29,8 +29,6 @@ Run: ``python benchmarks/ablation_exact.py`` (appends its table to
 import datetime
 import os
 import platform
-import shutil
-import subprocess
 import sys
 import tempfile
 import time
@@ -44,9 +42,9 @@ from noslipsim.core.loop import orbit_kernel
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ablation import Orbit
 from machine import cpu_model
+from package_copy import package_copy
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
 OUT = os.path.join(HERE, "results", "ablation.md")
 #: The commit before the exact evaluation (branch i13-exact's base).
 BASE = os.environ.get("ABLATION_BASE", "c1ce5d5")
@@ -70,16 +68,7 @@ SCENES = {  # name -> (scene, start q, v, w)
 
 def old_package():
     """``noslipsim_old``: the sources of ``BASE``, importable next to the current package."""
-    where = os.path.join(tempfile.gettempdir(), f"noslipsim_old_{BASE}")
-    pkg = os.path.join(where, "noslipsim_old")
-    if not os.path.isdir(pkg):
-        tmp = tempfile.mkdtemp()
-        archive = subprocess.run(["git", "-C", ROOT, "archive", BASE, "src/noslipsim"], check=True,
-                                 capture_output=True).stdout
-        subprocess.run(["tar", "-x", "-C", tmp], input=archive, check=True)
-        os.makedirs(where, exist_ok=True)
-        shutil.move(os.path.join(tmp, "src", "noslipsim"), pkg)
-    sys.path.insert(0, where)
+    package_copy(BASE, "noslipsim_old", os.path.join(tempfile.gettempdir(), f"noslipsim_old_{BASE}"))
     from noslipsim_old.core import loop as old_loop
     return old_loop
 

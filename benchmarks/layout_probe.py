@@ -18,8 +18,6 @@ Run: ``python benchmarks/layout_probe.py`` (appends its table to
 import datetime
 import os
 import platform
-import shutil
-import subprocess
 import sys
 import tempfile
 import time
@@ -30,11 +28,11 @@ from noslipsim import tables
 from noslipsim.core import layout
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ablation import Orbit  # noqa: E402
-from machine import cpu_model  # noqa: E402
+from ablation import Orbit
+from machine import cpu_model
+from package_copy import package_copy
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
 OUT = os.path.join(HERE, "results", "ablation.md")
 BASE = os.environ.get("ABLATION_BASE", "c1ce5d5")
 ROUNDS = int(os.environ.get("ABLATION_ROUNDS", "25"))
@@ -59,24 +57,14 @@ SCENES = {  # the general loop's fastest scenes: plain tables without force
 
 def copy_of_base(name, cold):
     """The package at ``BASE`` as ``name`` (importable), with ``cold`` inserted before ``ANCHOR`` in core/loop.py."""
-    where = os.path.join(tempfile.gettempdir(), f"noslipsim_probe_{BASE}")
-    pkg = os.path.join(where, name)
-    if os.path.isdir(pkg):
-        shutil.rmtree(pkg)
-    tmp = tempfile.mkdtemp()
-    archive = subprocess.run(["git", "-C", ROOT, "archive", BASE, "src/noslipsim"], check=True,
-                             capture_output=True).stdout
-    subprocess.run(["tar", "-x", "-C", tmp], input=archive, check=True)
-    os.makedirs(where, exist_ok=True)
-    shutil.move(os.path.join(tmp, "src", "noslipsim"), pkg)
+    pkg = package_copy(BASE, name, os.path.join(tempfile.gettempdir(), f"noslipsim_probe_{BASE}"), fresh=True)
     path = os.path.join(pkg, "core", "loop.py")
-    text = open(path, encoding="utf-8").read()
+    with open(path, encoding="utf-8") as fh:
+        text = fh.read()
     if text.count(ANCHOR) != 1:
         raise SystemExit(f"core/loop.py at {BASE}: the anchor line is not there once")
     with open(path, "w", encoding="utf-8") as fh:
         fh.write(text.replace(ANCHOR, cold + ANCHOR))
-    if where not in sys.path:
-        sys.path.insert(0, where)
     return __import__(f"{name}.core.loop", fromlist=["orbit_kernel"])
 
 
