@@ -45,7 +45,6 @@ import argparse
 import datetime
 import math
 import os
-import platform
 import sys
 import time
 
@@ -59,7 +58,7 @@ from noslipsim.lattice import lattice_matrix
 from noslipsim.simulate import start_cell
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from machine import cpu_model  # noqa: E402
+from machine import machine_line  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 OUT = os.path.join(HERE, "results", "ablation.md")
@@ -400,8 +399,7 @@ def main():
         update_section(args.only, rows, SEVERAL_NOTE.format(when=when, start="inside the cell", load=load))
         print(f"\nrows of '{args.only}' written to {os.path.relpath(OUT)}")
         return
-    machine = (f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python "
-               f"{platform.python_version()} | numpy {np.__version__}")
+    machine = machine_line(numpy=True)
     print(machine)
     print(f"collisions/s of one orbit of {N:,} collisions, best of {REPEAT}, after a compile warm-up\n")
     print(HEADER, flush=True)

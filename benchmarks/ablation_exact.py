@@ -28,7 +28,6 @@ Run: ``python benchmarks/ablation_exact.py`` (appends its table to
 """
 import datetime
 import os
-import platform
 import sys
 import tempfile
 import time
@@ -41,7 +40,7 @@ from noslipsim.core.loop import orbit_kernel
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ablation import Orbit
-from machine import cpu_model
+from machine import machine_line
 from package_copy import package_copy
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -127,8 +126,7 @@ def quartiles(x):
 
 def main():
     old_loop = old_package()
-    machine = (f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python "
-               f"{platform.python_version()} | numpy {np.__version__} | load {os.getloadavg()[0]:.2f}")
+    machine = machine_line(numpy=True, load=True)
     print(machine)
     header = ("| scene, law | variant | before (BASE) coll/s, median | after / before, median [quartiles] "
               "| A/A control | final state after N | per flight (1000, restarted from the old state) |\n"

@@ -12,7 +12,6 @@ Run: ``python benchmarks/bench_centred_torus.py [--repeat 5]``.
 """
 import argparse
 import os
-import platform
 import sys
 import time
 
@@ -23,7 +22,7 @@ from noslipsim import Circle, Scene, initial, tables
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from baseline_sinai_torus import sinai_torus as plain_loop  # noqa: E402
-from machine import cpu_model  # noqa: E402
+from machine import machine_line  # noqa: E402
 
 ORBITS = 64
 COLLISIONS = 20_000
@@ -57,8 +56,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=5, help="interleaved rounds (the best of each is kept)")
     args = ap.parse_args()
-    print(f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python {platform.python_version()} "
-          f"| numpy {np.__version__}")
+    print(machine_line(numpy=True))
     cases = {}
     for law in ("specular", "no-slip"):
         cases[f"centred disk (0.5, 0.5), {law}"] = (centred_torus(law), (0.95, 0.6))

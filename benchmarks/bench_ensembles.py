@@ -10,7 +10,6 @@ experiment (100,000 particles for each law).  Run:
 import argparse
 import math
 import os
-import platform
 import sys
 import time
 
@@ -21,7 +20,7 @@ from noslipsim import initial, tables
 from noslipsim.experiments import galton_distribution
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from machine import cpu_model  # noqa: E402
+from machine import machine_line  # noqa: E402
 
 ROWS = 100
 DEPTH = ROWS * math.sqrt(3.0)
@@ -41,8 +40,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--paper", action="store_true", help="also time the paper-size Galton experiment")
     args = ap.parse_args()
-    print(f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python {platform.python_version()} "
-          f"| numpy {np.__version__}")
+    print(machine_line(numpy=True))
     galton = tables.galton_board(2.0, 0.5, 1.0)
     sinai = tables.sinai_torus(0.25)
     cases = [

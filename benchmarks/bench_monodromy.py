@@ -11,18 +11,16 @@ Run: ``python benchmarks/bench_monodromy.py [--repeat 7]``.
 import argparse
 import math
 import os
-import platform
 import sys
 import time
 
-import numpy as np
 
 import noslipsim as ns
 from noslipsim import tables
 from noslipsim.analysis import lyapunov, monodromy, two_disk_orbit
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from machine import cpu_model  # noqa: E402
+from machine import machine_line  # noqa: E402
 
 
 def best(fn, repeat):
@@ -39,8 +37,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=7)
     args = ap.parse_args()
-    print(f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python {platform.python_version()} "
-          f"| numpy {np.__version__} | load average {os.getloadavg()[0]:.1f}")
+    print(f"{machine_line(numpy=True)} | load average {os.getloadavg()[0]:.1f}")
     disks, state = two_disk_orbit(0.9, 1.2, 0.3)  # elliptic: the orbit stays put for any period
     pentagon = tables.regular_polygon(5)
     gravity_box = tables.rectangle(2, 1, disks=[(1.0, 0.5, 0.3)], force=(0.0, -1.0))

@@ -10,12 +10,11 @@ Run: ``python benchmarks/bench_runtime.py``.
 """
 import json
 import os
-import platform
 import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from machine import cpu_model  # noqa: E402
+from machine import machine_line  # noqa: E402
 
 CHILD = r"""
 import json, sys
@@ -48,7 +47,7 @@ def measure(with_runtime):
 
 
 def main():
-    print(f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python {platform.python_version()}")
+    print(machine_line())
     lean = measure(False)
     full = measure(True)
     print(f"{'scene':<14}{'with runtime coll/s':>22}{'without (shipped)':>20}{'gain':>8}  identical")

@@ -12,7 +12,6 @@ collisions simulated and the agreement share of survival with the linear classes
 import argparse
 import math
 import os
-import platform
 import sys
 import time
 
@@ -21,7 +20,7 @@ import numpy as np
 from noslipsim.analysis import stability_grid, stability_grid_theta
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from machine import cpu_model  # noqa: E402
+from machine import machine_line  # noqa: E402
 
 GAMMA = 1.0 / math.sqrt(2.0)
 TARGET_SECONDS = 20.0
@@ -32,8 +31,7 @@ def main():
     ap.add_argument("--n", type=int, default=100, help="grid points per axis (default 100)")
     ap.add_argument("--max-collisions", type=int, default=1000)
     args = ap.parse_args()
-    print(f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python {platform.python_version()} "
-          f"| numpy {np.__version__}")
+    print(machine_line(numpy=True))
     print(f"load average before: {os.getloadavg()}")
     radii = np.linspace(0.02, 0.98, args.n)
     angles = np.linspace(0.01, 1.56, args.n)

@@ -11,7 +11,6 @@ Run: ``python benchmarks/energy_drift.py [--collisions 1000000] [--families a,b]
 """
 import argparse
 import os
-import platform
 import sys
 import time
 
@@ -20,7 +19,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(os.path.dirname(HERE), "tests"))
 sys.path.insert(0, HERE)
-from machine import cpu_model
+from machine import machine_line
 
 #: Target (issue 13): every family below this drift per 10^6 collisions.
 TARGET = 1e-12
@@ -65,7 +64,7 @@ def main():
 
     names = args.families.split(",") if args.families else sorted(ts.chain_families())
     n = int(args.collisions)
-    print(f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python {platform.python_version()}")
+    print(machine_line())
     print(f"{n:,} collisions per family; slope: least-squares drift of E per 10^6 collisions (relative); "
           f"target |slope| < {TARGET:g}")
     print(f"{'family':<26}{'collisions':>12}{'slope per 1e6':>15}{'R^2':>8}{'max |dE|':>11}{'s':>7}  ok")

@@ -17,7 +17,6 @@ Run: ``python benchmarks/layout_probe.py`` (appends its table to
 """
 import datetime
 import os
-import platform
 import sys
 import tempfile
 import time
@@ -29,7 +28,7 @@ from noslipsim.core import layout
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ablation import Orbit
-from machine import cpu_model
+from machine import machine_line
 from package_copy import package_copy
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -72,8 +71,7 @@ def main():
     loops = {"original": copy_of_base("noslipsim_probe0", "")}
     for i, (label, cold) in enumerate(COLD.items(), start=1):
         loops[label] = copy_of_base(f"noslipsim_probe{i}", cold)
-    machine = (f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python "
-               f"{platform.python_version()} | numpy {np.__version__} | load {os.getloadavg()[0]:.2f}")
+    machine = machine_line(numpy=True, load=True)
     print(machine)
     header = ("| scene, law | " + " | ".join(COLD) + " |\n|---|" + "---:|" * len(COLD))
     print(header, flush=True)

@@ -16,9 +16,22 @@ def cpu_model():
     return platform.processor() or "unknown"
 
 
+def machine_line(numpy=False, load=False):
+    """``machine: <cpu> x <cores> | <system> | python <version>``, then ``| numpy <version>`` and
+    ``| load <1-minute load average>`` if asked: the first line of a benchmark's output."""
+    line = f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python {platform.python_version()}"
+    if numpy:
+        import numpy as np
+
+        line += f" | numpy {np.__version__}"
+    if load:
+        line += f" | load {os.getloadavg()[0]:.2f}"
+    return line
+
+
 def report_baseline(label, loop, start, n, *params):
     """Print the machine, then the best of three timings of ``loop(*start, n, *params)`` (after a warm-up)."""
-    print(f"machine: {cpu_model()} x {os.cpu_count()} | {platform.system()} | python {platform.python_version()}")
+    print(machine_line())
     loop(*start, 10, *params)
     best = 0.0
     for _ in range(3):
