@@ -1,10 +1,14 @@
 """Ablation of the event-loop specialisations (issue: pay only for what a scene needs, measured).
 
-``orbit_kernel(force, spin, lattice, mode, disks)`` fixes each flag at compile time
-(``None`` = read it from the arguments: the general path).  Each row times one
+``orbit_kernel(force, spin, lattice, mode, disks, walls)`` fixes each flag at compile
+time (``None`` = read it from the arguments: the general path).  Each row times one
 orbit of ~2e6 collisions (best of three, after a compile warm-up) with a
 baseline kernel and a specialised one on the SAME scene and start, and checks
-that the two final states (all 12 outputs of the kernel) are bitwise equal.
+that the two final states (the 12 outputs of the kernel: the first 12 summary
+columns, ``core.batch.F_N`` to ``F_CELL2``) are bitwise equal.  Every run goes
+through the package's one kernel call, ``run_orbits(kernel_table(scene), ...,
+flags=variant)`` (one orbit per call: its Python overhead, some 30 us, is
+nothing against 2e6 collisions; before, the orbit kernels were called directly).
 
 Sections:
 
@@ -43,7 +47,6 @@ replaces only its rows in the written table.
 """
 import argparse
 import datetime
-import math
 import os
 import sys
 import time
@@ -51,14 +54,17 @@ import time
 import numpy as np
 
 from noslipsim import Circle, Scene, tables
-from noslipsim.canonical import canonical_form
+from noslipsim._engine.canonical import canonical_form
+from noslipsim._engine.lattice import lattice_matrix
+from noslipsim._engine.run import run_orbits
+from noslipsim._engine.table import kernel_table
 from noslipsim.core import layout
-from noslipsim.core.loop import orbit_kernel
-from noslipsim.lattice import lattice_matrix
+from noslipsim.core.variant import GENERAL
 from noslipsim.simulate import start_cell
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from machine import machine_line  # noqa: E402
+from package_copy import outputs  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 OUT = os.path.join(HERE, "results", "ablation.md")
@@ -92,7 +98,7 @@ STARTS = {  # scene name -> start (q, v, w)
 
 
 def label(flags):
-    """``orbit_kernel(...)`` call text for a flag tuple."""
+    """``orbit_kernel(...)`` call text for a flag tuple (the variant ``run_orbits(..., flags=...)`` runs)."""
     if all(f is None for f in flags):
         return "general"
     names = ("force", "spin", "lattice", "mode", "disks", "walls")
@@ -101,23 +107,30 @@ def label(flags):
     return ", ".join(parts)
 
 
+def own_variant(scene, mode):
+    """The scene's own kernel variant (``kernel_table(scene).variant(mode)``)."""
+    return kernel_table(scene).variant(mode)
+
+
 class Orbit:
-    """One scene and start, ready to be run by any kernel variant."""
+    """One scene (as written, not its canonical form) and start, ready to be run by any kernel variant."""
 
     def __init__(self, scene, q, v, w):
         self.scene = scene
-        self.inputs = scene.kernel_inputs()
+        self.table = kernel_table(scene)
         _, origin, r = start_cell(scene, np.asarray(q, float))
         self.origin = origin
-        c, s = scene.noslip_coefficients
-        ax, ay = scene.force
-        self.head = (*self.inputs, scene.law_code, c, s, ax, ay, float(r[0]), float(r[1]), v[0], v[1], w)
-        self.mask = np.zeros(len(self.inputs[0]), dtype=np.bool_)
+        self.start = (float(r[0]), float(r[1]), float(v[0]), float(v[1]), float(w))
 
-    def run(self, kernel, n, mode, rec=None, start_element=-1):
-        if rec is None:
-            rec = np.zeros((0, layout.N_LOG))
-        return kernel(*self.head, n, math.inf, -math.inf, self.scene.scale, mode, rec, self.mask, start_element)
+    def run(self, flags, n, mode, rec=None, start_element=-1):
+        """The 12 outputs of the kernel variant ``flags`` through ``run_orbits`` (``rec``: 2-D, written in place)."""
+        final = run_orbits(self.table, [self.start], max_collisions=n, mode=mode, flags=flags,
+                           rec=None if rec is None else rec[None], start_elements=[start_element])
+        return outputs(final[0])
+
+    def run_old(self, old, flags, n, mode, rec=None, start_element=-1):
+        """The same through the loop of an old package copy (``package_copy.OldLoop``), on this table's arrays."""
+        return old.run(self.table, flags, self.start, n, mode, rec, start_element=start_element)
 
 
 def bits(out, skip=()):
@@ -128,17 +141,17 @@ def bits(out, skip=()):
 def timed(orbit, runs):
     """Best rates over REPEAT interleaved runs of N collisions, and the final states.
 
-    ``runs``: ``(kernel, mode)`` pairs; a RECORD_LOG run gets a log array of every collision.
+    ``runs``: ``(flags, mode)`` pairs; a RECORD_LOG run gets a log array of every collision.
     """
     recs = [np.zeros((N if mode == LOG else 0, layout.N_LOG)) for _, mode in runs]
-    for (kernel, mode), rec in zip(runs, recs):
-        orbit.run(kernel, 10, mode, rec)  # compile (or load from the cache)
+    for (flags, mode), rec in zip(runs, recs):
+        orbit.run(flags, 10, mode, rec)  # compile (or load from the cache)
     best = [0.0] * len(runs)
     outs = [None] * len(runs)
     for _ in range(REPEAT):
-        for i, ((kernel, mode), rec) in enumerate(zip(runs, recs)):
+        for i, ((flags, mode), rec) in enumerate(zip(runs, recs)):
             t0 = time.perf_counter()
-            outs[i] = orbit.run(kernel, N, mode, rec)
+            outs[i] = orbit.run(flags, N, mode, rec)
             dt = time.perf_counter() - t0
             best[i] = max(best[i], outs[i][0] / dt)
     return best, outs
@@ -147,8 +160,7 @@ def timed(orbit, runs):
 def compare(rows, section, name, scene, base, variant, base_mode=NONE, var_mode=NONE):
     """Time ``base`` and ``variant`` (flag tuples) on one scene and start; append a table row."""
     orbit = Orbit(scene, *STARTS[name])
-    (rate_b, rate_v), (out_b, out_v) = timed(orbit, [(orbit_kernel(*base), base_mode),
-                                                     (orbit_kernel(*variant), var_mode)])
+    (rate_b, rate_v), (out_b, out_v) = timed(orbit, [(base, base_mode), (variant, var_mode)])
     skip = (3,) if base_mode != var_mode else ()  # n_rec counts the log rows: differs by design
     same = np.array_equal(bits(out_b, skip), bits(out_v, skip))
     same_txt = "yes" if same else "**NO**"
@@ -188,8 +200,8 @@ def neighbour_cells(rows, law, half=30, n_check=1000):
     lat_orbit = Orbit(lat, q, v, w)
     flat_orbit = Orbit(flat, q, v, w)
     assert np.all(lat_orbit.origin == 0.0)  # both start in cell (0, 0): same coordinates
-    k_lat = orbit_kernel(*lat.kernel_variant(NONE))
-    k_flat = orbit_kernel(*flat.kernel_variant(NONE))
+    k_lat = own_variant(lat, NONE)
+    k_flat = own_variant(flat, NONE)
     (rate_lat,), _ = timed(lat_orbit, [(k_lat, NONE)])
     # explicit copies: until the orbit leaves the block (escape), best of REPEAT
     flat_orbit.run(k_flat, 10, NONE)
@@ -203,9 +215,9 @@ def neighbour_cells(rows, law, half=30, n_check=1000):
 
     # the lattice orbit, logged (cell (0, 0) start: log positions are absolute)
     log = np.zeros((n_check + 1, layout.N_LOG))
-    lat_orbit.run(orbit_kernel(*lat.kernel_variant(LOG)), n_check + 1, LOG, log)
+    lat_orbit.run(own_variant(lat, LOG), n_check + 1, LOG, log)
     index = {tuple(c): k for k, c in enumerate(cells)}  # one element per cell here
-    k_flat_log = orbit_kernel(*flat.kernel_variant(LOG))
+    k_flat_log = own_variant(flat, LOG)
     one = np.zeros((1, layout.N_LOG))
     checked = agree = 0
     worst = 0.0
@@ -244,9 +256,9 @@ def neighbour_cells(rows, law, half=30, n_check=1000):
     same_txt = (f"per flight: {agree}/{checked} agree (max dev {worst:.1e}); "
                 f"whole orbit: first {together} collisions within 1e-9")
     rows.append(("neighbour-cell lookup", f"{name}, {law}",
-                 f"explicit {2 * half + 1}x{2 * half + 1} copies, {label(flat.kernel_variant(NONE))} "
+                 f"explicit {2 * half + 1}x{2 * half + 1} copies, {label(k_flat)} "
                  f"({n_flat} coll. until {stop_flat})",
-                 f"lattice, {label(lat.kernel_variant(NONE))}", rate_flat, rate_lat, same_txt))
+                 f"lattice, {label(k_lat)}", rate_flat, rate_lat, same_txt))
     print(fmt_row(rows[-1]), flush=True)
 
 
@@ -259,12 +271,12 @@ def disk_cells(rows, law, n_check=1000):
     """
     name = "Sinai torus r=0.25"
     scene = TORUS.replace(law=law)
-    flags = scene.kernel_variant(NONE)
+    flags = own_variant(scene, NONE)
     orbit = Orbit(scene, *STARTS[name])
-    (rate_g, rate_l), _ = timed(orbit, [(orbit_kernel(*flags[:4]), NONE), (orbit_kernel(*flags), NONE)])
+    (rate_g, rate_l), _ = timed(orbit, [(flags[:4], NONE), (flags, NONE)])
     log = np.zeros((n_check + 1, layout.N_LOG))
-    orbit.run(orbit_kernel(*scene.kernel_variant(LOG)[:4]), n_check + 1, LOG, log)
-    lean_log = orbit_kernel(*scene.kernel_variant(LOG))
+    orbit.run(own_variant(scene, LOG)[:4], n_check + 1, LOG, log)
+    lean_log = own_variant(scene, LOG)
     one = np.zeros((1, layout.N_LOG))
     agree = 0
     worst = 0.0
@@ -326,14 +338,14 @@ def several_disks(rows, name, law, n_check=1000):
     the same disk in the same cell at the same time and place to 1e-12.
     """
     scene = canonical_form(SEVERAL_DISKS[name].replace(law=law)).scene
-    flags = scene.kernel_variant(NONE)
+    flags = own_variant(scene, NONE)
     assert flags[4] is True
     q = inside_start(scene)
     orbit = Orbit(scene, q, (0.83, 0.41), 0.1)
-    (rate_g, rate_l), _ = timed(orbit, [(orbit_kernel(*flags[:4]), NONE), (orbit_kernel(*flags), NONE)])
+    (rate_g, rate_l), _ = timed(orbit, [(flags[:4], NONE), (flags, NONE)])
     log = np.zeros((n_check + 1, layout.N_LOG))
-    general_log = orbit_kernel(*scene.kernel_variant(LOG)[:4])
-    lean_log = orbit_kernel(*scene.kernel_variant(LOG))
+    general_log = own_variant(scene, LOG)[:4]
+    lean_log = own_variant(scene, LOG)
     orbit.run(general_log, n_check + 1, LOG, log)
     one_g = np.zeros((1, layout.N_LOG))
     one_l = np.zeros((1, layout.N_LOG))
@@ -358,7 +370,7 @@ def several_disks(rows, name, law, n_check=1000):
         agree += same and dev <= 1e-12
         worst = max(worst, dev)
     n_disks = len(scene.elements)
-    copies = len(scene.kernel_inputs()[2])
+    copies = len(kernel_table(scene).copies)
     rows.append(("several disks per cell", f"{name} ({n_disks} disks, {copies} copies reach a cell), {law}",
                  label(flags[:4]), label(flags), rate_g, rate_l,
                  f"per flight: {agree}/{n_check} agree (max dev {worst:.1e})"))
@@ -404,12 +416,12 @@ def main():
     print(f"collisions/s of one orbit of {N:,} collisions, best of {REPEAT}, after a compile warm-up\n")
     print(HEADER, flush=True)
     rows = []
-    G = (None, None, None, None)
+    G = GENERAL
     # straight flights, per flag
     for name, base in (("pentagon", PENTAGON), ("Sinai box", SINAI_BOX)):
         for law in ("specular", "no-slip"):
             scene = base.replace(law=law)
-            f, s, l, m = scene.kernel_variant(NONE)[:4]
+            f, s, l, m = own_variant(scene, NONE)[:4]
             # what straight flights buy: the same scene through the force code (degree 4 and 3,
             # leading coefficients exactly zero) against its own variant
             compare(rows, "straight flights", name, scene, (True, s, l, m), (f, s, l, m))
@@ -424,12 +436,12 @@ def main():
     for name, scene in (("Sinai box", SINAI_BOX), ("pentagon", PENTAGON.replace(law="specular")),
                         ("Galton board", GALTON)):
         compare(rows, "lean recorder", name, scene, G, G, LOG, NONE)
-        compare(rows, "lean recorder", name, scene, scene.kernel_variant(LOG), scene.kernel_variant(NONE), LOG, NONE)
+        compare(rows, "lean recorder", name, scene, own_variant(scene, LOG), own_variant(scene, NONE), LOG, NONE)
     # force
     for name, base in (("circle + gravity", CIRCLE_G), ("Galton board", GALTON)):
         for law in ("no-slip", "specular"):
             scene = base.replace(law=law)
-            f, s, l, m = scene.kernel_variant(NONE)[:4]
+            f, s, l, m = own_variant(scene, NONE)[:4]
             for variant in ((f, None, None, None), (None, None, l, None), (f, s, l, m)):
                 compare(rows, "force", name, scene, G, variant)
     # lattice: the cell walk vs explicit copies, and the lean loop of one disk per cell
@@ -449,7 +461,8 @@ def main():
                  "baseline and specialised kernel on the same scene and start. 'identical': the 12 kernel outputs "
                  "(counts, stop code, final time, position, velocity, spin, cell) are bitwise equal. "
                  "'general' = `orbit_kernel()`; a flag list = `orbit_kernel(...)` with the other flags None "
-                 "(read at run time); [LOG] = run with RECORD_LOG and a log array of every collision. "
+                 "(read at run time), each run through `run_orbits(table, ..., flags=...)`; [LOG] = run with "
+                 "RECORD_LOG and a log array of every collision. "
                  "Neighbour-cell rows compare the lattice (cell walk) with a plain scene of explicit disk copies: "
                  "rounding differs (positions re-centred per cell), so the check is per flight (explicit scene "
                  "restarted from the lattice state after each of the first 1000 collisions, same disk + cell, "

@@ -3,11 +3,18 @@
 The baseline is the event loop of commit ``BASE`` (the branch point), imported in the
 same process from a copy of its sources under the package name ``noslipsim_old``
 (``git archive``; the package imports itself only relatively, and the copy keeps its
-own numba cache).  Both kernels get the same kernel inputs (the new layout's extra
-columns are ignored by the old loop) on each scene's own kernel variant
-(``scene.kernel_variant(RECORD_NONE)``): the Sinai torus and the hexagonal Lorentz
+own numba cache).  Both kernels get the same kernel inputs, the current kernel table
+(``kernel_table(scene)``; the new layout's extra columns are ignored by the old loop),
+on each scene's own kernel variant (``table.variant(RECORD_NONE)``, cut to the
+base's five flags for the old loop): the Sinai torus and the hexagonal Lorentz
 cell (lean loop, ``core/disks.py``), the Galton board (general lattice loop under a
 force), the pentagon and the Sinai box (plain scenes: the segment crossing changed).
+The new kernel runs through the package's one kernel call (``run_orbits``), the old
+one through its own API: its serial batch loop (``batch_kernels(flags)[1]``,
+``package_copy.OldLoop``), so both are a compiled loop over orbits around the orbit
+kernel, one orbit per call.  (Before the one call, both orbit kernels were called
+directly; ``run_orbits`` around the current kernel ran within 1 % of the direct call
+on the pentagon and the Sinai torus, one orbit of 5e5 collisions.)
 
 Timing: ``ROUNDS`` rounds, each running the old kernel, the new one and the old one
 again (one orbit of ``N_TIMED`` collisions each, same start); the table gives the
@@ -36,12 +43,11 @@ import numpy as np
 
 from noslipsim import tables
 from noslipsim.core import layout
-from noslipsim.core.loop import orbit_kernel
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ablation import Orbit
+from ablation import Orbit, own_variant
 from machine import machine_line
-from package_copy import package_copy
+from package_copy import OldLoop, package_copy
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 OUT = os.path.join(HERE, "results", "ablation.md")
@@ -52,8 +58,6 @@ N_CHECK = 1000
 #: Interleaved rounds and collisions per timed orbit.
 ROUNDS = int(os.environ.get("ABLATION_ROUNDS", "25"))
 N_TIMED = 1_000_000
-#: The base's kernel flags (force, spin, lattice, mode, disks); ``walls`` came later.
-OLD_SLOTS = 5
 TOL = 1e-12
 
 SCENES = {  # name -> (scene, start q, v, w)
@@ -66,16 +70,16 @@ SCENES = {  # name -> (scene, start q, v, w)
 
 
 def old_package():
-    """``noslipsim_old``: the sources of ``BASE``, importable next to the current package."""
+    """The event loop of ``noslipsim_old`` (the sources of ``BASE``, importable next to the current package)."""
     package_copy(BASE, "noslipsim_old", os.path.join(tempfile.gettempdir(), f"noslipsim_old_{BASE}"))
-    from noslipsim_old.core import loop as old_loop
-    return old_loop
+    return OldLoop("noslipsim_old")
 
 
-def per_flight(scene, q, v, w, old_log_kernel, new_log_kernel):
+def per_flight(scene, q, v, w, old):
     """Both kernels restarted from the old kernel's state after each of the first collisions."""
+    flags = own_variant(scene, LOG)
     log = np.zeros((N_CHECK + 1, layout.N_LOG))
-    Orbit(scene, q, v, w).run(old_log_kernel, N_CHECK + 1, LOG, log)
+    Orbit(scene, q, v, w).run_old(old, flags, N_CHECK + 1, LOG, log)
     cols = (layout.LOG_T, layout.LOG_X, layout.LOG_Y, layout.LOG_VX, layout.LOG_VY, layout.LOG_W,
             layout.LOG_CELL_A1, layout.LOG_CELL_A2)
     worst, agree, same_bits = 0.0, 0, 0
@@ -87,8 +91,8 @@ def per_flight(scene, q, v, w, old_log_kernel, new_log_kernel):
         a_old[:] = 0.0
         a_new[:] = 0.0
         e = int(a[layout.LOG_ELEMENT])
-        n_old = start.run(old_log_kernel, 1, LOG, a_old, start_element=e)[0]
-        n_new = start.run(new_log_kernel, 1, LOG, a_new, start_element=e)[0]
+        n_old = start.run_old(old, flags, 1, LOG, a_old, start_element=e)[0]
+        n_new = start.run(flags, 1, LOG, a_new, start_element=e)[0]
         length = max(scene.scale, abs(a_old[0, layout.LOG_X]), abs(a_old[0, layout.LOG_Y]))
         dev = max(abs(a_new[0, c] - a_old[0, c]) / (length if c in (layout.LOG_X, layout.LOG_Y) else 1.0)
                   for c in cols)
@@ -98,18 +102,19 @@ def per_flight(scene, q, v, w, old_log_kernel, new_log_kernel):
     return agree, same_bits, worst
 
 
-def rounds(orbit, old_k, new_k):
+def rounds(orbit, old, flags):
     """The old kernel's median rate, per round new/old and old-again/old (``ROUNDS`` interleaved rounds), both final states."""
-    for k in (old_k, new_k):
-        orbit.run(k, 10, NONE)  # compile (or load from the cache)
+    runs = {"old": lambda n: orbit.run_old(old, flags, n, NONE), "new": lambda n: orbit.run(flags, n, NONE)}
+    for run in runs.values():
+        run(10)  # compile (or load from the cache)
     ratios, control, olds = [], [], []
     for _ in range(ROUNDS):
         rates = []
-        for k in (old_k, new_k, old_k):
+        for key in ("old", "new", "old"):
             t0 = time.perf_counter()
-            out = orbit.run(k, N_TIMED, NONE)
+            out = runs[key](N_TIMED)
             rates.append(out[0] / (time.perf_counter() - t0))
-            if k is new_k:
+            if key == "new":
                 out_new = out
             else:
                 out_old = out
@@ -125,7 +130,7 @@ def quartiles(x):
 
 
 def main():
-    old_loop = old_package()
+    old = old_package()
     machine = machine_line(numpy=True, load=True)
     print(machine)
     header = ("| scene, law | variant | before (BASE) coll/s, median | after / before, median [quartiles] "
@@ -136,15 +141,12 @@ def main():
     for name, (base, q, v, w) in SCENES.items():
         for law in ("specular", "no-slip"):
             scene = base.replace(law=law)
-            flags = scene.kernel_variant(NONE)
-            old_k, new_k = old_loop.orbit_kernel(*flags[:OLD_SLOTS]), orbit_kernel(*flags)
+            flags = own_variant(scene, NONE)
             orbit = Orbit(scene, q, v, w)
-            rate_old, ratios, control, out_old, out_new = rounds(orbit, old_k, new_k)
+            rate_old, ratios, control, out_old, out_new = rounds(orbit, old, flags)
             same = np.array_equal(np.array(out_old, dtype=np.float64).view(np.int64),
                                   np.array(out_new, dtype=np.float64).view(np.int64))
-            log_flags = scene.kernel_variant(LOG)
-            agree, same_bits, worst = per_flight(scene, q, v, w,
-                                                 old_loop.orbit_kernel(*log_flags[:OLD_SLOTS]), orbit_kernel(*log_flags))
+            agree, same_bits, worst = per_flight(scene, q, v, w, old)
             row = (f"| {name}, {law} | {label(flags)} | {rate_old:,.0f} | {quartiles(ratios)} | {quartiles(control)} "
                    f"| {'bitwise identical' if same else 'differs'} "
                    f"| {agree}/{N_CHECK} within {TOL:g} (max dev {worst:.1e}), {same_bits}/{N_CHECK} bitwise |")
@@ -156,7 +158,9 @@ def main():
         fh.write(f"Command: `python benchmarks/ablation_exact.py` ({when})\n\n{machine}\n\n")
         fh.write(f"{ROUNDS} interleaved rounds of one orbit of {N_TIMED:,} collisions each (old, new, old again), "
                  f"each scene's own kernel variant; 'before' is the same variant compiled from commit "
-                 f"{BASE} in the same process; the A/A control is the old kernel's second run over its first. "
+                 f"{BASE} in the same process; the new kernel through `run_orbits`, the old one through its "
+                 "serial batch loop (one orbit per call each); the A/A control is the old kernel's second run "
+                 "over its first. "
                  "Changed since: far cells of the lean disk loop (past 16 cells, out of line: exact lattice "
                  "offset, compensated cross product), straight hits 16 or more cells away in the general "
                  "lattice loop (cells.far_hit_point), a line's or segment's distance on tables with a long wall "

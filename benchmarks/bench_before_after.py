@@ -10,11 +10,20 @@ package and compiles its own kernels):
     cp -r /tmp/old/src/noslipsim /tmp/old/pkg/noslipsim_before
     PYTHONPATH=src python benchmarks/bench_before_after.py --before /tmp/old/pkg
 
+(``package_copy.package_copy(commit, "noslipsim_before", "/tmp/old/pkg")`` makes the same copy.)
+
 Each case is the workload of a scene benchmark (``bench_collisions.py``: kernels without a log
 and ``simulate`` with one; ``bench_ensembles.py``: ``simulate_many`` on one core, Galton board
 and Sinai torus; ``bench_centred_torus.py``: the centred-disk torus) at about the same size (0.3 to 1 s per run), timed
 ``--rounds`` times with the order of the two versions swapped every round; per case: the best
 rate of each version, and the median and range of the per-round ratios new / before.
+
+Kernel cases run each version through its own one call (``package_copy.kernel_call``):
+``run_orbits`` on the scene's kernel table for a package that has it, and for an
+older one its own API (``scene.kernel_inputs()``, ``scene.kernel_variant``, its serial
+batch loop ``batch_kernels(flags)[1]`` where it has one, else the orbit kernel);
+one orbit of millions of collisions per call either way, so the call's own overhead
+(some 30 us) does not count.
 """
 import argparse
 import importlib
@@ -28,25 +37,21 @@ import numpy as np
 
 import noslipsim as new
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from package_copy import kernel_call  # noqa: E402
+
 ROWS = 100
 DEPTH = ROWS * math.sqrt(3.0)
 
 
 def kernel_case(pkg, scene_fn, q, v, n):
-    """The scene's own kernel variant, no record: ``bench_collisions.kernel_rate``."""
-    layout = importlib.import_module(pkg.__name__ + ".core.layout")
-    loop = importlib.import_module(pkg.__name__ + ".core.loop")
+    """The scene's own kernel variant, no record, one orbit: ``bench_collisions.kernel_rate``."""
+    run = kernel_call(pkg.__name__)
     scene = scene_fn(pkg)
-    kinds, params, copies, A, B, lattice, jstart, jpts = scene.kernel_inputs()
-    kernel = loop.orbit_kernel(*scene.kernel_variant(layout.RECORD_NONE))
-    c, s = scene.noslip_coefficients
-    ax, ay = scene.force
-    rec = np.zeros((0, layout.N_LOG))
-    mask = np.zeros(len(kinds), dtype=np.bool_)
+    start = (q[0], q[1], v[0], v[1], 0.0)
 
     def go(m):
-        return kernel(kinds, params, copies, A, B, lattice, jstart, jpts, scene.law_code, c, s, ax, ay, q[0], q[1],
-                      v[0], v[1], 0.0, m, math.inf, -math.inf, scene.scale, layout.RECORD_NONE, rec, mask)[0]
+        return run(scene, start, m)[0]
     go(10)
     return lambda: go(n)
 
@@ -93,11 +98,19 @@ CASES = {  # name -> (case maker, scene of a package, start, velocity or orbits,
 }
 
 
+def scaled(make, spec, factor):
+    """``spec`` with its size (collisions of a kernel or simulate case, orbits of an ensemble) times ``factor``."""
+    i = 2 if make is many_case else 3
+    return [*spec[:i], max(1, int(spec[i] * factor)), *spec[i + 1:]]
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--before", required=True, help="folder holding the package noslipsim_before")
     ap.add_argument("--rounds", type=int, default=7)
     ap.add_argument("--only", default="", help="run the cases whose name contains this text")
+    ap.add_argument("--scale", type=float, default=1.0,
+                    help="multiplies each case's collisions or orbits (small values only check that it runs)")
     args = ap.parse_args()
     sys.path.insert(0, os.path.abspath(args.before))
     old = importlib.import_module("noslipsim_before")
@@ -109,6 +122,7 @@ def main():
     for name, (make, *spec) in CASES.items():
         if args.only not in name:
             continue
+        spec = scaled(make, spec, args.scale)
         runs = {"before": make(old, *spec), "new": make(new, *spec)}
         best = dict.fromkeys(runs, 0.0)
         ratios = []

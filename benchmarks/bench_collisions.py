@@ -1,18 +1,27 @@
 """Collisions per second of the event loop on three scenes (issue: core simulator).
 
-Measures the compiled kernel with the lean recorder (no collision log) and the
-public ``simulate`` (full log), after a warm-up run that compiles.  Prints the
-machine, then one line per scene.  Run: ``python benchmarks/bench_collisions.py``.
+Measures the compiled kernel with the lean recorder (no collision log), one
+orbit through the package's one kernel call (``run_orbits``, the scene's own
+variant; one call of ``n`` collisions, so its Python overhead of some 30 us does
+not count), and the public ``simulate`` (full log), after a warm-up run that
+compiles.  Prints the machine, then one line per scene.
+Run: ``python benchmarks/bench_collisions.py [--collisions 2000000]``.
 """
-import math
+import argparse
+import os
 import platform
+import sys
 import time
 
 import numpy as np
 
 from noslipsim import Circle, Scene, simulate, tables
-from noslipsim.core import layout
-from noslipsim.core.loop import orbit_kernel
+from noslipsim._engine.run import run_orbits
+from noslipsim._engine.table import kernel_table
+from noslipsim.core.batch import F_N
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from package_copy import outputs  # noqa: E402
 
 SCENES = {
     "pentagon (no force)": (tables.regular_polygon(5), (0.1, 0.05), (0.83, 0.41)),
@@ -24,23 +33,19 @@ SCENES = {
 def kernel_rate(scene, q, v, n, repeat=1):
     """Best collisions/s over ``repeat`` timed runs of the scene's own kernel variant (no record).
 
-    Returns ``(rate, outputs)``: ``outputs`` are the kernel's 12 outputs of the last run.
+    ``q`` is taken relative to cell 0 (the scene as written, not its canonical form).
+    Returns ``(rate, outputs)``: ``outputs`` are the kernel's 12 outputs of the last run
+    (the summary columns ``F_N`` to ``F_CELL2``).
     """
-    inputs = scene.kernel_inputs()
-    kinds = inputs[0]
-    c, s = scene.noslip_coefficients
-    ax, ay = scene.force
-    rec = np.zeros((0, layout.N_LOG))
-    mask = np.zeros(len(kinds), dtype=np.bool_)
-    args = (*inputs, scene.law_code, c, s, ax, ay, q[0], q[1], v[0], v[1], 0.1)
-    run_orbit = orbit_kernel(*scene.kernel_variant(layout.RECORD_NONE))
-    run_orbit(*args, 10, math.inf, -math.inf, scene.scale, layout.RECORD_NONE, rec, mask)  # compile
+    table = kernel_table(scene)
+    start = [[q[0], q[1], v[0], v[1], 0.1]]
+    run_orbits(table, start, max_collisions=10)  # compile (or load from the cache)
     best = 0.0
     for _ in range(repeat):
         t0 = time.perf_counter()
-        out = run_orbit(*args, n, math.inf, -math.inf, scene.scale, layout.RECORD_NONE, rec, mask)
-        best = max(best, out[0] / (time.perf_counter() - t0))
-    return best, out
+        final = run_orbits(table, start, max_collisions=n)
+        best = max(best, final[0, F_N] / (time.perf_counter() - t0))
+    return best, outputs(final[0])
 
 
 def simulate_rate(scene, q, v, n):
@@ -59,4 +64,6 @@ def main(n=2_000_000):
 
 
 if __name__ == "__main__":
-    main()
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--collisions", type=float, default=2e6, help="per kernel run (simulate: a quarter)")
+    main(int(ap.parse_args().collisions))

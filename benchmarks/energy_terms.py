@@ -49,6 +49,8 @@ def orbit_terms(name, n):
     """Per-collision energy terms of one family's orbit: a dict of means per 10^6 collisions (relative)."""
     import test_stress as ts
 
+    from noslipsim._engine.canonical import canonical_form
+    from noslipsim._engine.table import kernel_table
     from noslipsim.core import layout
     from noslipsim.core.events import advance, hit_in_cell
     from noslipsim.core.geometry import place_on_element
@@ -79,8 +81,10 @@ def orbit_terms(name, n):
     res["law_sd"] = float(np.asarray(law, dtype=float).std()) / size
     has_force = ax != 0.0 or ay != 0.0
     if has_force and not scene.lattice:
-        # split flight / projection: redo each flight with the kernel's functions (plain scenes: one cell)
-        kinds, params, copies, A = scene.kernel_inputs()[:4]
+        # split flight / projection: redo each flight with the kernel's functions (plain scenes: one cell),
+        # on the table run_one ran (the scene's canonical form)
+        table = kernel_table(canonical_form(scene).scene)
+        kinds, params, copies, A = table.kinds, table.params, table.copies, table.A
         nf = min(m - 1, 20000)
         fl = np.zeros(nf, dtype=LD)
         pr = np.zeros(nf, dtype=LD)
@@ -114,6 +118,7 @@ def orbit_terms(name, n):
 def law_terms(samples, seed=1):
     """Mean relative ``dK`` per collision of the laws on random inputs, split into defect and rounding."""
     from noslipsim import tables
+    from noslipsim._engine.table import kernel_table
     from noslipsim._unit import unit_pair
     from noslipsim.core.jit import jit
     from noslipsim.core.laws import collide, noslip_coefficients
@@ -169,7 +174,7 @@ def law_terms(samples, seed=1):
                      sd / math.sqrt(samples)))
 
     # stored line normals (pentagon edges, after _unit.py): a fixed |n|^2 - 1
-    p = tables.regular_polygon(5).arrays()[1]
+    p = kernel_table(tables.regular_polygon(5)).params
     for j in (1, 2):
         nx, ny = -p[j, 2], -p[j, 3]
         d = float(Fraction(nx) ** 2 + Fraction(ny) ** 2 - 1)

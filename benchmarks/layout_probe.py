@@ -7,7 +7,11 @@ loop (``if n == -12345: ...`` calling ``sin``/``exp`` or ``atan2``/``log1p``/...
 The branch computes nothing on any orbit; it only moves the loop's machine code
 and changes the registers the compiler has to plan for.  Each round times one
 orbit of ``N_TIMED`` collisions with every kernel, interleaved; the table gives
-the median and quartiles of each copy's rate over the original's.
+the median and quartiles of each copy's rate over the original's.  Every copy
+is the old package, so each runs through its own API (``package_copy.OldLoop``:
+its serial batch loop around the orbit kernel, one orbit per call, as the current
+package's ``run_orbits`` runs a kernel; before, the orbit kernels were called
+directly), on the arrays of the current kernel table (``kernel_table(scene)``).
 
 A change to a kernel that moves its rate by less than the "never-run code" rows
 do is not resolved: it cannot be told from where the code happens to land.
@@ -27,9 +31,9 @@ from noslipsim import tables
 from noslipsim.core import layout
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ablation import Orbit
+from ablation import Orbit, own_variant
 from machine import machine_line
-from package_copy import package_copy
+from package_copy import OldLoop, package_copy
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 OUT = os.path.join(HERE, "results", "ablation.md")
@@ -55,7 +59,7 @@ SCENES = {  # the general loop's fastest scenes: plain tables without force
 
 
 def copy_of_base(name, cold):
-    """The package at ``BASE`` as ``name`` (importable), with ``cold`` inserted before ``ANCHOR`` in core/loop.py."""
+    """The event loop of the package at ``BASE`` as ``name``, ``cold`` inserted before ``ANCHOR`` in core/loop.py."""
     pkg = package_copy(BASE, name, os.path.join(tempfile.gettempdir(), f"noslipsim_probe_{BASE}"), fresh=True)
     path = os.path.join(pkg, "core", "loop.py")
     with open(path, encoding="utf-8") as fh:
@@ -64,7 +68,10 @@ def copy_of_base(name, cold):
         raise SystemExit(f"core/loop.py at {BASE}: the anchor line is not there once")
     with open(path, "w", encoding="utf-8") as fh:
         fh.write(text.replace(ANCHOR, cold + ANCHOR))
-    return __import__(f"{name}.core.loop", fromlist=["orbit_kernel"])
+    # numba keys the batch loop's cache on core/batch.py alone (its archive time, the same every run), not on
+    # the orbit kernel inside it: a new time makes it recompile around the loop just written
+    os.utime(os.path.join(pkg, "core", "batch.py"))
+    return OldLoop(name)
 
 
 def main():
@@ -79,17 +86,16 @@ def main():
     for name, (base, q, v, w) in SCENES.items():
         for law in ("specular", "no-slip"):
             scene = base.replace(law=law)
-            flags = scene.kernel_variant(NONE)[:5]  # the flags BASE knows
-            kernels = {label: loop.orbit_kernel(*flags) for label, loop in loops.items()}
+            flags = own_variant(scene, NONE)  # OldLoop keeps the flags BASE knows
             orbit = Orbit(scene, q, v, w)
-            for k in kernels.values():
-                orbit.run(k, 10, NONE)
+            for loop in loops.values():
+                orbit.run_old(loop, flags, 10, NONE)
             ratios = {label: [] for label in COLD}
             for _ in range(ROUNDS):
                 rates = {}
-                for label, k in kernels.items():
+                for label, loop in loops.items():
                     t0 = time.perf_counter()
-                    rates[label] = orbit.run(k, N_TIMED, NONE)[0] / (time.perf_counter() - t0)
+                    rates[label] = orbit.run_old(loop, flags, N_TIMED, NONE)[0] / (time.perf_counter() - t0)
                 for label in COLD:
                     ratios[label].append(rates[label] / rates["original"])
             cells = []
@@ -102,7 +108,8 @@ def main():
     with open(OUT, "a", encoding="utf-8") as fh:
         fh.write("\n## Layout probe: the same kernel with never-run code added (resolution of an ablation)\n\n")
         fh.write(f"Command: `python benchmarks/layout_probe.py` ({when})\n\n{machine}\n\n")
-        fh.write(f"The general loop of commit {BASE}, each scene's own variant, against copies of itself: "
+        fh.write(f"The general loop of commit {BASE}, each scene's own variant through its serial batch loop, "
+                 "against copies of itself: "
                  f"median [quartiles] of the copy's rate over the original's, {ROUNDS} interleaved rounds of "
                  f"one orbit of {N_TIMED:,} collisions. The never-run branches compute nothing on any orbit.\n\n")
         fh.write(header + "\n" + "\n".join(rows) + "\n")

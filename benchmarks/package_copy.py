@@ -1,17 +1,38 @@
-"""A copy of ``src/noslipsim`` at some commit, importable under another name beside the current package.
+"""A copy of ``src/noslipsim`` at some commit, importable under another name beside the current package;
+and the one kernel call of a package, new or old.
 
 The package imports itself only relatively, so a copy under another name is a
 second, independent package with its own numba cache (numba keys the cache on
 the source file's path): benchmarks compile an old kernel and the current one in
 one process and time them interleaved.
+
+The current package runs every orbit through one call,
+``_engine.run.run_orbits(table, starts, ...)`` on a kernel table
+(``_engine.table.kernel_table(scene)``).  A copy from before it (such as the
+``ABLATION_BASE`` commit of ``ablation_exact.py``) keeps its own API: scenes
+with ``kernel_inputs()`` and ``kernel_variant(mode)``, orbit kernels of 26
+positional arguments and 12 outputs, and from some commit on
+``core.batch.batch_kernels(flags)``.  :class:`OldLoop` runs such a copy's loop
+through that API; :func:`kernel_call` runs a scene of either kind of package
+through its own path.  Both give the 12 outputs ``(n, stop, n_corner, n_rec,
+t, x, y, vx, vy, w, m1, m2)`` (counts, stop code and cells as ints).
 """
+import importlib
+import importlib.util
+import inspect
+import math
 import os
 import shutil
 import subprocess
 import sys
 import tempfile
+from types import SimpleNamespace
+
+import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+#: The integer ones among the 12 outputs (n, stop, n_corner, n_rec, m1, m2).
+INTS = (0, 1, 2, 3, 10, 11)
 
 
 def package_copy(commit, name, where, fresh=False):
@@ -33,3 +54,93 @@ def package_copy(commit, name, where, fresh=False):
     if where not in sys.path:
         sys.path.insert(0, where)
     return pkg
+
+
+def outputs(row):
+    """The first 12 columns of a summary row as the kernel's outputs (ints where they are counts or cells)."""
+    return tuple(int(row[k]) if k in INTS else float(row[k]) for k in range(12))
+
+
+def has_one_call(name):
+    """True if the package ``name`` runs its orbits through ``_engine.run.run_orbits`` (the current API)."""
+    try:
+        return importlib.util.find_spec(f"{name}._engine.run") is not None
+    except ModuleNotFoundError:  # no _engine package at all
+        return False
+
+
+class OldLoop:
+    """The event loop of a package from before ``run_orbits``, through that package's own API.
+
+    ``run`` calls the package's serial batch loop (``core.batch.batch_kernels(flags)[1]``)
+    where it has one: like ``run_orbits`` in the current package, a compiled loop over
+    orbits around the orbit kernel, so old and new are timed through the same kind of
+    call; else the orbit kernel (``core.loop.orbit_kernel(*flags)``) directly.  Flags
+    are cut to the slots the package knows (``walls`` came after ``disks``): its loop
+    has what a later slot would leave out.
+    """
+
+    def __init__(self, name):
+        self.name = name
+        self.loop = importlib.import_module(f"{name}.core.loop")
+        try:
+            self.batch = importlib.import_module(f"{name}.core.batch").batch_kernels
+        except (ImportError, AttributeError):
+            self.batch = None
+        self.slots = len(inspect.signature(self.loop.orbit_kernel).parameters)
+
+    def flags(self, flags):
+        return tuple(flags)[:self.slots]
+
+    def run(self, table, flags, start, n, mode, rec=None, mask=None, start_element=-1, max_time=math.inf,
+            level=-math.inf):
+        """One orbit from ``start = (x, y, vx, vy, w)`` (relative to its cell); the 12 outputs.
+
+        ``table``: the arguments the kernels take, as attributes ``arrays()``, ``law``,
+        ``c``, ``s``, ``ax``, ``ay``, ``scale`` (a current ``KernelTable``, or
+        :func:`old_table` of a scene of the old package); ``rec``: a 2-D record
+        buffer written in place.
+        """
+        arrays = table.arrays()
+        rec = np.zeros((0, 0)) if rec is None else rec
+        mask = np.zeros(len(arrays[0]), dtype=np.bool_) if mask is None else mask
+        flags = self.flags(flags)
+        head = (*arrays, table.law, table.c, table.s, table.ax, table.ay)
+        if self.batch is None:
+            out = self.loop.orbit_kernel(*flags)(*head, *start, n, max_time, level, table.scale, mode, rec, mask,
+                                                 start_element)
+            return outputs(out)
+        final = np.zeros((1, 12))
+        self.batch(flags)[1](*head, np.array([start], dtype=np.float64), np.array([start_element], dtype=np.int64),
+                             n, max_time, np.array([level]), table.scale, mode, rec[None], mask, final)
+        return outputs(final[0])
+
+
+def old_table(scene):
+    """A scene of an old package as the kernels take it: ``kernel_inputs()`` and its physics, table-like."""
+    inputs = scene.kernel_inputs()
+    c, s = scene.noslip_coefficients
+    ax, ay = scene.force
+    return SimpleNamespace(arrays=lambda: inputs, law=scene.law_code, c=c, s=s, ax=ax, ay=ay, scale=scene.scale)
+
+
+def kernel_call(name):
+    """``run(scene, start, n)``: one orbit of a scene of package ``name``, its own variant, no record.
+
+    Through ``run_orbits`` where the package has it, else through :class:`OldLoop`
+    (its ``scene.kernel_inputs()`` and ``scene.kernel_variant(RECORD_NONE)``).
+    ``start`` is ``(x, y, vx, vy, w)`` relative to the start cell.  Returns the 12 outputs.
+    """
+    if has_one_call(name):
+        run_orbits = importlib.import_module(f"{name}._engine.run").run_orbits
+        kernel_table = importlib.import_module(f"{name}._engine.table").kernel_table
+
+        def run(scene, start, n):
+            return outputs(run_orbits(kernel_table(scene), [start], max_collisions=n)[0])
+    else:
+        old = OldLoop(name)
+        none = importlib.import_module(f"{name}.core.layout").RECORD_NONE
+
+        def run(scene, start, n):
+            return old.run(old_table(scene), scene.kernel_variant(none), start, n, none)
+    return run

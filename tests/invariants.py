@@ -110,7 +110,7 @@ def cell_frame(scene, ds):
     x, y = ds.x.values, ds.y.values
     if scene.lattice is None:
         return x, y, np.zeros((len(x), 2))
-    from noslipsim.lattice import cell_origin
+    from noslipsim._engine.lattice import cell_origin
     origins = cell_origin(np.c_[ds.cell_a1.values, ds.cell_a2.values], scene.lattice)
     return x - origins[:, 0], y - origins[:, 1], origins
 
@@ -119,7 +119,7 @@ def _element_copies(scene):
     """``[(element index, element object in cell-0 coordinates)]``: every copy reaching cell 0."""
     if scene.lattice is None:
         return list(enumerate(scene.elements))
-    from noslipsim.lattice import lattice_matrix, reaching_copies
+    from noslipsim._engine.lattice import lattice_matrix, reaching_copies
     A, _ = lattice_matrix(scene.lattice)
     out = []
     for e, o1, o2 in reaching_copies(scene.elements, scene.lattice):
@@ -184,7 +184,7 @@ def table_depth_rel(scene, pts):
     """Signed table depth of points (unfolded for lattices) over ``max(scene.scale, |q|)``."""
     pts = np.asarray(pts, float).reshape(-1, 2)
     if scene.lattice is not None:
-        from noslipsim.lattice import cell_of, cell_origin
+        from noslipsim._engine.lattice import cell_of, cell_origin
         pts = pts - cell_origin(cell_of(pts, scene.lattice), scene.lattice)
         depth = scene.cell_scene((0, 0)).depth(pts)
     else:
@@ -356,7 +356,7 @@ def _lattice_pieces(scene, X, Y, VX, VY, T, batch=2_000_000):
     are evaluated in extended precision (``np.longdouble``) from the flight's start,
     so a piece of a long corridor flight keeps the cell's digits.
     """
-    from noslipsim.lattice import lattice_matrix
+    from noslipsim._engine.lattice import lattice_matrix
     A, B = lattice_matrix(scene.lattice)
     ax, ay = scene.force
     path = np.hypot(VX, VY) * T + 0.5 * math.hypot(ax, ay) * T * T
@@ -399,7 +399,7 @@ def flight_penetration(scene, ds, samples=6, chunk=500_000):
     if scene.lattice is None:
         copies = [e for _, e in _element_copies(scene)]
     else:
-        from noslipsim.lattice import lattice_matrix
+        from noslipsim._engine.lattice import lattice_matrix
         A, _ = lattice_matrix(scene.lattice)
         copies = [e.shifted(*(A @ np.array([i, j], float)))
                   for i in range(-2, 3) for j in range(-2, 3) for _, e in _element_copies(scene)]

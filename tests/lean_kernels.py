@@ -7,28 +7,28 @@ import math
 
 import numpy as np
 
+from kernel_call import record_buffer, run_kernel
+
+from noslipsim._engine.table import kernel_table
 from noslipsim.core import layout
-from noslipsim.core.loop import orbit_kernel
 
 LOG, PORTRAIT, NONE = layout.RECORD_LOG, layout.RECORD_PORTRAIT, layout.RECORD_NONE
 
 
 def kernels(scene, mode):
-    """``(general, lean)``: the general path's lattice variant for this scene and the lean loop."""
-    flags = scene.kernel_variant(mode)
+    """``(general, lean)``: the flags of the general path's lattice variant for this scene and of the lean loop."""
+    flags = kernel_table(scene).variant(mode)
     assert flags[4] is True
-    return orbit_kernel(*flags[:4]), orbit_kernel(*flags)
+    return flags[:4] + (None, None), flags
 
 
-def run(kernel, scene, q, v, w, n, mode=LOG, max_time=math.inf, level=-math.inf, start_element=-1):
-    """Run ``kernel`` from ``q`` (relative to cell 0); returns the 12 outputs and the records."""
-    kinds, params, copies, A, B, lattice, jstart, jpts = scene.kernel_inputs()
-    c, s = scene.noslip_coefficients
-    width = layout.N_PORTRAIT if mode == PORTRAIT else layout.N_LOG
-    rec = np.zeros((n if mode != NONE else 0, width))
-    mask = np.ones(len(kinds), dtype=np.bool_)
-    out = kernel(kinds, params, copies, A, B, lattice, jstart, jpts, scene.law_code, c, s, 0.0, 0.0,
-                 q[0], q[1], v[0], v[1], w, n, max_time, level, scene.scale, mode, rec, mask, start_element)
+def run(flags, scene, q, v, w, n, mode=LOG, max_time=math.inf, level=-math.inf, start_element=-1):
+    """Run the kernel variant ``flags`` from ``q`` (relative to cell 0); returns the 12 outputs and the records."""
+    table = kernel_table(scene)
+    rec = record_buffer(mode, n)
+    mask = np.ones(len(table.kinds), dtype=np.bool_)
+    out = run_kernel(table, flags, q, v, w, n, mode, rec=rec, mask=mask, max_time=max_time, level=level,
+                     start_element=start_element)
     return out, rec
 
 

@@ -18,9 +18,13 @@ import math
 import numpy as np
 import pytest
 
+from kernel_call import record_buffer, run_kernel
+
 from noslipsim import Circle, Scene, tables
+from noslipsim._engine.table import kernel_table
 from noslipsim.core import layout
 from noslipsim.core.loop import orbit_kernel, run_orbit
+from noslipsim.core.variant import GENERAL
 from noslipsim.simulate import start_cell
 
 N_COLL = 20_000
@@ -49,20 +53,16 @@ def scene_of(name, law):
     return scene.replace(law=law), q, v, w
 
 
-def run(kernel, name, law, mode, start=None):
-    """Run ``kernel`` on a scene and start; returns the 12 outputs and the whole record array."""
+def run(flags, name, law, mode, start=None):
+    """Run the kernel variant ``flags`` on a scene and start; returns the 12 outputs and the whole record array."""
     scene, q, v, w = scene_of(name, law)
     if start is not None:
         q = start
-    kinds, params, copies, A, B, lattice, jstart, jpts = scene.kernel_inputs()
+    table = kernel_table(scene)
     _, _, r = start_cell(scene, np.asarray(q, float))
-    c, s = scene.noslip_coefficients
-    ax, ay = scene.force
-    width = layout.N_PORTRAIT if mode == PORTRAIT else layout.N_LOG
-    rec = np.full((N_COLL + 1 if mode != NONE else 0, width), -7.0)  # sentinel: unwritten rows must stay so
-    mask = np.arange(len(kinds)) % 2 == 0  # portrait: even elements (all of a one-element scene)
-    out = kernel(kinds, params, copies, A, B, lattice, jstart, jpts, scene.law_code, c, s, ax, ay,
-                 float(r[0]), float(r[1]), v[0], v[1], w, N_COLL, math.inf, -math.inf, scene.scale, mode, rec, mask)
+    rec = record_buffer(mode, N_COLL + 1, fill=-7.0)  # sentinel: unwritten rows must stay so
+    mask = np.arange(len(table.kinds)) % 2 == 0  # portrait: even elements (all of a one-element scene)
+    out = run_kernel(table, flags, (float(r[0]), float(r[1])), v, w, N_COLL, mode, rec=rec, mask=mask)
     return out, rec
 
 
@@ -73,7 +73,7 @@ def bits(values):
 
 @functools.lru_cache(maxsize=None)
 def general(name, law, mode):
-    out, rec = run(run_orbit, name, law, mode)
+    out, rec = run(GENERAL, name, law, mode)
     # the comparison must not be vacuous: a full-length orbit, and records actually written
     assert out[0] == N_COLL and out[1] == layout.STOP_MAX_COLLISIONS, (name, law, out[:2])
     if mode == LOG:
@@ -87,17 +87,16 @@ def general(name, law, mode):
 
 def variant_flags(name, law, mode, subset):
     """The scene's flags fixed in ``subset`` (slot indices), the others left None."""
-    needs = scene_of(name, law)[0].kernel_variant(mode)
+    needs = kernel_table(scene_of(name, law)[0]).variant(mode)
     return tuple(f if i in subset else None for i, f in enumerate(needs))
 
 
 def check_identical(name, law, mode_name, subset):
     mode = MODES[mode_name]
     flags = variant_flags(name, law, mode, subset)
-    kernel = orbit_kernel(*flags)
-    assert kernel is not run_orbit  # a specialised kernel indeed
+    assert orbit_kernel(*flags) is not run_orbit  # a specialised kernel indeed
     out_g, rec_g = general(name, law, mode)
-    out_v, rec_v = run(kernel, name, law, mode)
+    out_v, rec_v = run(flags, name, law, mode)
     assert np.array_equal(bits(out_v), bits(out_g)), (flags, out_v, out_g)
     if mode != NONE:
         diff = np.flatnonzero(np.any(bits(rec_v) != bits(rec_g), axis=1))
@@ -124,9 +123,9 @@ def test_comparison_sees_one_ulp_and_a_wrong_law():
     another scene (spin=False forces the specular law), gives other outputs."""
     out_g, rec_g = general("sinai_box", "no-slip", LOG)
     q = SCENES["sinai_box"][1]
-    nudged = run(run_orbit, "sinai_box", "no-slip", LOG, start=(np.nextafter(q[0], 1.0), q[1]))[0]
+    nudged = run(GENERAL, "sinai_box", "no-slip", LOG, start=(np.nextafter(q[0], 1.0), q[1]))[0]
     assert not np.array_equal(bits(nudged), bits(out_g))
-    wrong, rec_w = run(orbit_kernel(None, False, None, None), "pentagon", "no-slip", LOG)
+    wrong, rec_w = run((None, False, None, None, None, None), "pentagon", "no-slip", LOG)
     out_p, rec_p = general("pentagon", "no-slip", LOG)
     assert not np.array_equal(bits(wrong), bits(out_p))
     assert np.all(rec_w[:100, layout.LOG_W] == rec_w[0, layout.LOG_W])  # specular: spin never changes
@@ -137,7 +136,7 @@ def test_comparison_sees_one_ulp_and_a_wrong_law():
 @pytest.mark.parametrize("name,law", CASES)
 def test_kernel_variant_asks_only_for_what_the_scene_needs(name, law, mode):
     scene = scene_of(name, law)[0]
-    force, spin, lattice, m, disks, walls = scene.kernel_variant(mode)
+    force, spin, lattice, m, disks, walls = kernel_table(scene).variant(mode)
     # exact bools: orbit_kernel tells "fixed False" from "read at run time" by identity (``is False``)
     assert all(f is True or f is False for f in (force, spin, lattice, disks, walls))
     assert force is (name in ("circle_gravity", "galton", "wedge"))
@@ -152,4 +151,4 @@ def test_kernel_variant_asks_only_for_what_the_scene_needs(name, law, mode):
                                        ((0.0, 1e-300), True), ((-2.0, 0.0), True)])
 def test_force_flag_is_false_exactly_for_zero_force(force, has):
     scene = tables.regular_polygon(5, force=force)
-    assert scene.kernel_variant(NONE)[0] is has
+    assert kernel_table(scene).variant(NONE)[0] is has

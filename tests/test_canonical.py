@@ -1,4 +1,4 @@
-"""Canonical form of periodic scenes (noslipsim.canonical): how a scene is written never decides its kernel.
+"""Canonical form of periodic scenes (noslipsim._engine.canonical): how a scene is written never decides its kernel.
 
 Each user scene below is a canonical twin (``tables.*``) written another way: the
 disk elsewhere in the cell, a skewed basis of the same lattice, a shifted
@@ -10,15 +10,18 @@ by the canonical form), hits the same disk at the same time and place to
 cell indices).
 """
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
+from kernel_call import run_kernel
 
 from noslipsim import Circle, Scene, simulate, simulate_many, tables
-from noslipsim.canonical import canonical_form, reduce_basis
+from noslipsim._engine.canonical import canonical_form, reduce_basis
+from noslipsim._engine.lattice import cell_of, cell_origin, lattice_matrix, reaching_copies
+from noslipsim._engine.table import kernel_table
 from noslipsim.core import layout
 from noslipsim.core.loop import orbit_kernel
-from noslipsim.lattice import cell_of, cell_origin, lattice_matrix, reaching_copies
 
 SQ3 = math.sqrt(3.0)
 FLIGHT_TOL = 1e-12
@@ -123,18 +126,15 @@ def test_copies_are_found_by_exact_geometry():
 def test_dropping_unreachable_copies_changes_no_bit(law):
     """The copies the box test added and the exact test drops are never hit: same outputs, bit for bit."""
     scene = tables.hex_lorentz_cell(0.45, law=law)
-    inputs = list(scene.kernel_inputs())
-    A, B = lattice_matrix(scene.lattice)
+    table = kernel_table(scene)
     boxed = np.array([(0, o1, o2) for o1 in (-1, 0, 1) for o2 in (-1, 0, 1)], dtype=np.int64)
-    assert len(inputs[2]) == 5
-    c, s = scene.noslip_coefficients
+    assert len(table.copies) == 5
     outs = []
-    for copies in (inputs[2], boxed):
-        args = inputs[:2] + [copies] + inputs[3:]
+    for copies in (table.copies, boxed):
         rec = np.zeros((3000, layout.N_LOG))
-        kernel = orbit_kernel(*scene.kernel_variant(layout.RECORD_LOG)[:4])
-        out = kernel(*args, scene.law_code, c, s, 0.0, 0.0, 0.0, 0.47, 0.6, 0.8, 0.1, 3000, math.inf, -math.inf,
-                     scene.scale, layout.RECORD_LOG, rec, np.ones(1, np.bool_))
+        general = table.variant(layout.RECORD_LOG)[:4] + (None, None)
+        out = run_kernel(replace(table, copies=copies), general, (0.0, 0.47), (0.6, 0.8), 0.1, 3000,
+                         layout.RECORD_LOG, rec=rec, mask=np.ones(1, np.bool_))
         outs.append((np.asarray(out, float), rec))
     assert outs[0][0][0] == 3000
     assert np.array_equal(outs[0][0].view(np.int64), outs[1][0].view(np.int64))
@@ -156,9 +156,10 @@ def test_user_scene_runs_the_twins_kernel_variant(name, mode):
     for law in ("specular", "no-slip"):
         form = canonical_form(user(law))
         assert not form.identity
-        assert form.scene.kernel_variant(mode) == twin(law).kernel_variant(mode)
-        assert len(form.scene.kernel_inputs()[2]) == len(twin(law).kernel_inputs()[2])
-        assert orbit_kernel(*form.scene.kernel_variant(mode)) is orbit_kernel(*twin(law).kernel_variant(mode))
+        assert kernel_table(form.scene).variant(mode) == kernel_table(twin(law)).variant(mode)
+        assert len(kernel_table(form.scene).arrays()[2]) == len(kernel_table(twin(law)).arrays()[2])
+        assert orbit_kernel(*kernel_table(form.scene).variant(mode)) is orbit_kernel(
+            *kernel_table(twin(law)).variant(mode))
 
 
 def per_flight_deviation(name, law, n=N_FLIGHTS):

@@ -1,6 +1,6 @@
 """The lean disk loop (core/disks.py) with several disks per cell, or disks reaching into neighbouring cells.
 
-A lattice of disjoint disk scatterers without force (``Scene.disk_lattice``)
+A lattice of disjoint disk scatterers without force (``KernelTable.disk_lattice``)
 runs the lean loop whatever the number of disks per cell: the walk tests
 every disk copy that reaches a cell and takes the earliest hit once it comes
 before the cell's exit.  It uses other formulas than the general loop, so the
@@ -17,11 +17,12 @@ import pytest
 from lean_kernels import LOG, NONE, PORTRAIT, kernels, run, same_stop
 
 from noslipsim import Circle, Scene, Segment, simulate, simulate_many, tables
-from noslipsim.canonical import canonical_form
+from noslipsim._engine.canonical import canonical_form
 from noslipsim.core import layout
 from noslipsim.core.disks import disk_lattice_kernel
 from noslipsim.core.loop import orbit_kernel
-from noslipsim.lattice import cell_origin, lattice_matrix
+from noslipsim._engine.lattice import cell_origin, lattice_matrix
+from noslipsim._engine.table import kernel_table
 
 SQUARE = {"a1": [1.0, 0.0], "a2": [0.0, 1.0]}
 HEX = {"a1": [1.0, 0.0], "a2": [0.5, math.sqrt(3.0) / 2.0]}
@@ -94,12 +95,12 @@ def test_dispatch_takes_disjoint_disks_without_force():
     lean = disk_lattice_kernel(False, LOG)
     for name in NAMES:
         scene = kernel_scene(name)
-        assert scene.disk_lattice is True and scene.one_disk_per_cell is False
-        assert orbit_kernel(*scene.kernel_variant(LOG)) is lean
-        assert canonical_form(user_scene(name) if name != "hex_0.45" else scene).scene.disk_lattice
-    assert tables.sinai_torus(0.25).disk_lattice and tables.sinai_torus(0.25).one_disk_per_cell
+        assert kernel_table(scene).disk_lattice is True and kernel_table(scene).one_disk_per_cell is False
+        assert orbit_kernel(*kernel_table(scene).variant(LOG)) is lean
+        assert kernel_table(canonical_form(user_scene(name) if name != "hex_0.45" else scene).scene).disk_lattice
+    assert kernel_table(tables.sinai_torus(0.25)).disk_lattice and kernel_table(tables.sinai_torus(0.25)).one_disk_per_cell
     # disks inside the cell (no copy shifted) and disks reaching into neighbouring cells are both covered
-    shifted = {name: bool(kernel_scene(name).kernel_inputs()[2][:, 1:].any()) for name in NAMES}
+    shifted = {name: bool(kernel_table(kernel_scene(name)).arrays()[2][:, 1:].any()) for name in NAMES}
     assert shifted == {"two disks": False, "two disks, reaching": True, "five disks": True, "honeycomb": False,
                        "hex_0.45": True}
 
@@ -116,15 +117,15 @@ def test_dispatch_takes_disjoint_disks_without_force():
     Scene((Circle((0.0, 0.0), 0.2), Circle((0.5, 0.5), 0.1))),  # no lattice
 ], ids=["overlap", "touch", "within gap", "touch, written apart", "own copies touch", "force", "segment", "container", "plain"])
 def test_dispatch_refuses_what_the_lean_loop_cannot_run(scene):
-    assert scene.disk_lattice is False
-    assert canonical_form(scene).scene.kernel_variant(LOG)[4] is False
+    assert kernel_table(scene).disk_lattice is False
+    assert kernel_table(canonical_form(scene).scene).variant(LOG)[4] is False
 
 
 def test_gap_between_lattice_copies_decides():
     apart = Scene((Circle((0.0, 0.0), 0.3), Circle((0.5, 0.5), 0.4)), lattice=SQUARE)
-    assert apart.disk_lattice  # 0.3 + 0.4 < 1/sqrt(2)
+    assert kernel_table(apart).disk_lattice  # 0.3 + 0.4 < 1/sqrt(2)
     close = Scene((Circle((0.0, 0.0), 0.3), Circle((0.5, 0.5), 0.42)), lattice=SQUARE)
-    assert not close.disk_lattice  # overlaps the copy at (1, 1) (and every other corner)
+    assert not kernel_table(close).disk_lattice  # overlaps the copy at (1, 1) (and every other corner)
 
 
 @pytest.mark.parametrize("name,law", CASES)
@@ -162,7 +163,7 @@ def test_every_flight_agrees_with_the_general_path(name, law):
         assert l_[layout.LOG_S] == pytest.approx(g[layout.LOG_S], abs=1e-9 * scale)
     assert worst > 0.0  # the two loops really are different arithmetic
     assert len({e for e, _ in hit}) == len(scene.elements)  # every disk was hit
-    if scene.kernel_inputs()[2][:, 1:].any():
+    if kernel_table(scene).arrays()[2][:, 1:].any():
         assert any(o != (0, 0) for _, o in hit)  # ... and a copy from a neighbouring cell
 
 
@@ -222,7 +223,7 @@ def test_stops_agree_with_the_general_path(name, stop, law):
 @pytest.mark.parametrize("name", ["two disks", "two disks, reaching", "five disks"])
 def test_public_api_runs_the_lean_loop_and_keeps_chunking_invariance(name):
     scene = user_scene(name, "no-slip")
-    assert canonical_form(scene).scene.kernel_variant(NONE)[4] is True
+    assert kernel_table(canonical_form(scene).scene).variant(NONE)[4] is True
     rng = np.random.default_rng(3)
     q = []
     while len(q) < 9:  # starts inside the table, in the user's coordinates

@@ -17,7 +17,8 @@ from noslipsim import simulate, simulate_many, tables
 from noslipsim.core import layout
 from noslipsim.core.disks import disk_lattice_kernel
 from noslipsim.core.loop import orbit_kernel
-from noslipsim.lattice import cell_origin
+from noslipsim._engine.lattice import cell_origin
+from noslipsim._engine.table import kernel_table
 
 SCENES = {
     "torus_0.25": tables.sinai_torus(0.25),
@@ -32,16 +33,16 @@ CASES = [(name, law) for name in SCENES for law in ("specular", "no-slip")]
 def test_dispatch_only_for_disks_without_force():
     lean = disk_lattice_kernel(True, LOG)
     for scene in (tables.sinai_torus(0.25), tables.hex_lorentz_cell(0.3)):
-        assert scene.one_disk_per_cell and scene.disk_lattice
-        assert orbit_kernel(*scene.kernel_variant(LOG)) is lean
+        assert kernel_table(scene).one_disk_per_cell and kernel_table(scene).disk_lattice
+        assert orbit_kernel(*kernel_table(scene).variant(LOG)) is lean
     # the disk reaches into neighbouring cells: the lean loop with its copy loop (tests/test_disk_cells.py)
     hex45 = tables.hex_lorentz_cell(0.45)
-    assert hex45.disk_lattice and not hex45.one_disk_per_cell
-    assert orbit_kernel(*hex45.kernel_variant(LOG)) is lean
+    assert kernel_table(hex45).disk_lattice and not kernel_table(hex45).one_disk_per_cell
+    assert orbit_kernel(*kernel_table(hex45).variant(LOG)) is lean
     for scene in (tables.sinai_torus(0.25, force=(0.0, -1.0)), tables.galton_board(),
                   tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)])):
-        assert scene.one_disk_per_cell is False and scene.disk_lattice is False
-        assert orbit_kernel(*scene.kernel_variant(LOG)) is not lean
+        assert kernel_table(scene).one_disk_per_cell is False and kernel_table(scene).disk_lattice is False
+        assert orbit_kernel(*kernel_table(scene).variant(LOG)) is not lean
 
 
 @pytest.mark.parametrize("name,law", CASES)

@@ -38,6 +38,7 @@ from noslipsim.core.layout import ARC, CIRCLE, END_START, LINE, SEGMENT
 from noslipsim.core.tolerances import CONTACT_TOL, EXTENT_TOL
 
 import naive
+from noslipsim._engine.table import kernel_table
 
 INF = math.inf
 EPS = 2.0 ** -52
@@ -78,7 +79,7 @@ def next_hit(kinds, params, x, y, vx, vy, ax, ay, has_force, current, hi, extent
 @functools.lru_cache(maxsize=None)
 def row(element):
     """The kernel's (kind, params row) of one element, through the public Scene API."""
-    kinds, params = Scene([element]).arrays()
+    kinds, params = kernel_table(Scene([element])).arrays()[:2]
     return int(kinds[0]), params[0]
 
 
@@ -759,7 +760,7 @@ def test_corner_contacts_never_leak(force):
         if i % 3 == 0:
             L = loguni(rng, -2, 2)
             segs, c = polygon(rng, int(rng.integers(3, 7)), L)
-            kinds, params = Scene(segs).arrays()
+            kinds, params = kernel_table(Scene(segs)).arrays()[:2]
             scene_scale = Scene(segs).scale
         j = int(rng.integers(len(segs)))
         V0 = segs[j].p1                       # vertex shared by segs[j] (end) and segs[j+1] (start)
@@ -842,7 +843,7 @@ def test_next_hit_matches_twin(name, force):
     for i in range(n):
         if i % 10 == 0:
             els, q0, L = scene_for(name, rng)
-            kinds, params = Scene(els).arrays()
+            kinds, params = kernel_table(Scene(els)).arrays()[:2]
             scene_scale = Scene(els).scale
         q = (q0[0] + 0.05 * L * rng.normal(), q0[1] + 0.05 * L * rng.normal())
         V = L * loguni(rng, -1, 1)
@@ -915,7 +916,7 @@ def test_scene_without_force_never_solves_a_cubic_or_quartic(monkeypatch):
 
     for name in ("box", "sinai", "stadium", "pegs"):
         els, q0, L = scene_for(name, rng)
-        kinds, params = Scene(els).arrays()
+        kinds, params = kernel_table(Scene(els)).arrays()[:2]
         for current in range(-1, len(els)):
             for k in range(10):
                 d = unit(rng.uniform(0, 2 * math.pi))
@@ -926,7 +927,7 @@ def test_scene_without_force_never_solves_a_cubic_or_quartic(monkeypatch):
     # the counters do count: the same scenes under gravity use both paths
     for name in ("sinai", "pegs"):
         els, q0, L = scene_for(name, rng)
-        kinds, params = Scene(els).arrays()
+        kinds, params = kernel_table(Scene(els)).arrays()[:2]
         for current in range(-1, len(els)):
             py_next_hit(kinds, params, q0[0], q0[1], 1.0, 0.3, 0.0, -1.0, True, current, INF, 1e-11)
     assert calls["cubic_exits"] > 0 and calls["quartic_exits"] > 0

@@ -17,6 +17,7 @@ from noslipsim.core.events import advance, flight_position, hit_in_cell
 from noslipsim.core.geometry import crossing_coefficients, crossing_slope
 from noslipsim.core.layout import ARC, CIRCLE, LINE, SEGMENT
 from noslipsim.core.tolerances import EXTENT_TOL
+from noslipsim._engine.table import kernel_table
 
 
 def test_advance_without_force_is_the_flight_with_zero_acceleration():
@@ -53,7 +54,7 @@ def test_crossing_slope_is_c1_of_the_crossing_polynomial(kind):
 @pytest.mark.parametrize("force", [(0.0, 0.0), (0.0, -1.0)])
 def test_plain_scene_copies_are_hit_the_same_unshifted(force):
     scene = tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)])
-    kinds, params, copies, A = scene.kernel_inputs()[:4]
+    kinds, params, copies, A = kernel_table(scene).arrays()[:4]
     ax, ay = force
     has_force = force != (0.0, 0.0)
     rng = np.random.default_rng(7)

@@ -157,7 +157,7 @@ def test_two_disks_hyperbolic_start_is_recorded():
 def test_sphere_drift_is_the_formula_and_e2_is_two_periodic():
     ds = sphere_bounce(n_bounces=9)
     np.testing.assert_allclose(ds.drift.values, ds.drift_theory.values, atol=TOL)
-    assert float(ds.drift_spread) < TOL
+    assert float(ds.drift_error) < TOL
     e1, e2 = ds.e1.values, ds.e2.values
     assert e1 @ e2 == pytest.approx(0.0, abs=1e-15) and np.hypot(*e1[:2]) == pytest.approx(1.0)
     assert e1[2] == e2[2] == 0.0

@@ -34,8 +34,10 @@ def test_portrait_set_stacks_cases_with_the_same_scaled_starts():
     st = islands.uniform_reduced_states(scenes[0], 5, 3)
     assert np.allclose(ds.spin_start.isel(gamma=0), st["spins"]) and np.allclose(ds.spin_start.isel(gamma=1),
                                                                                    st["spins"])
-    assert ds.regular.dtype == np.int8 and set(np.unique(ds.regular)) <= {0, 1}
-    assert (ds.regular.values == (ds.ftle.values < ds.attrs["regular_threshold"])).all()
+    assert "regular" not in ds  # a reading of the exponents, made by classify_regular
+    flagged = islands.classify_regular(ds, 0.05)
+    assert flagged.regular.dtype == np.int8 and flagged.attrs["regular_threshold"] == 0.05
+    assert (flagged.regular.values == (ds.ftle.values < 0.05)).all()
     assert Scene.from_dict(json.loads(str(ds.scene.values[1]))).gamma == 1.0
     assert "sin_angle" not in ds and ds.attrs["lyapunov_collisions"] == 40
 
@@ -128,9 +130,9 @@ def test_hex_force_energy_grows_in_the_periodic_gas_and_stays_bounded_in_the_clo
 
 
 def test_islands_sweep_shares_agree_with_its_exponents_and_the_theory():
-    ds = sinai_islands_sweep(radii=(0.45,), gammas=(0.0, 0.6, 1.0), n_orbits=40, n_collisions=300,
-                             seed=2).isel(radius=0)
-    share, _, n = islands.regular_share(ds.ftle.values, ds.attrs["regular_threshold"])
+    ds = islands.islands_onsets(sinai_islands_sweep(radii=(0.45,), gammas=(0.0, 0.6, 1.0), n_orbits=40,
+                                                    n_collisions=300, seed=2), 0.03).isel(radius=0)
+    share, _, n = islands.regular_share(ds.ftle.values, 0.03)
     assert np.allclose(ds.share_regular.values, share) and (ds.n_valid.values == n).all()
     assert float(ds.share_regular.sel(gamma=0.0)) == 0.0 and float(ds.share_regular.sel(gamma=1.0)) > 0.1
     assert float(ds.head_on_onset) == pytest.approx(islands.head_on_onset_gamma(0.45))

@@ -1,9 +1,17 @@
-"""The kernels' compile options (core/jit.py)."""
+"""The kernels' compile options, names and cache keys (core/jit.py)."""
+import fcntl
+import importlib
+import os
+import subprocess
+import sys
+import threading
+
 import numpy as np
 import pytest
 from numba.core.errors import TypingError
 
-from noslipsim.core.jit import jit
+from noslipsim.core import jit as jit_module
+from noslipsim.core.jit import CACHE_LOCK, CoreCache, jit
 
 
 def test_kernels_run_without_the_reference_counting_runtime():
@@ -22,49 +30,55 @@ def test_kernels_run_without_the_reference_counting_runtime():
         jit(cache=False)(allocates)(3)
 
 
-_CACHE_KEY = """
-import hashlib
-from numba.core.serialize import dumps
-from noslipsim.core.batch import batch_kernels
-from noslipsim.core.loop import kernel_flags
-for flags in [kernel_flags(True, True, True, 0), kernel_flags(False, False, False, 1), kernel_flags(False, True, True, 2, True)]:
-    run_batch, run_batch_serial = batch_kernels(flags)
-    one = run_batch.py_func.__closure__[0].cell_contents  # the per-orbit step, around the orbit kernel
-    for kernel in (run_batch, one):
-        cells = tuple(c.cell_contents for c in kernel.py_func.__closure__)
-        print(hashlib.sha256(dumps(cells)).hexdigest())
+_NAMES = """
+from noslipsim.core.batch import batch_kernel
+from noslipsim.core.loop import orbit_kernel
+for flags in [(True, True, True, 0, False, False), (False, True, True, 0, False, False),
+              (False, False, False, 1, False, True), (False, True, True, 2, True, False)]:
+    for kernel in (batch_kernel(flags), orbit_kernel(*flags)):
+        print(kernel.py_func.__qualname__, kernel._uuid)
 """
 
 
-def test_kernels_built_around_kernels_have_the_same_cache_key_in_every_process():
-    """numba keys a closure's cache entry on its pickled cells; a cell holding a kernel must pickle alike.
+def test_every_variant_has_its_own_name_and_the_same_in_every_process():
+    """numba names a kernel's machine code by its ``__qualname__`` (and a per-process counter).
 
-    Otherwise every new process (each Snakemake job, each dask worker) misses
-    the on-disk cache of the batch loops, recompiles them and adds an entry.
+    Variants built by one factory must not share a name, or two variants first
+    compiled in two processes can end up with one symbol, and a process that
+    loads both links one to the other's code; and the name must not depend on
+    the process, or the cache misses in every new one.
     """
-    import subprocess
-    import sys
-
-    keys = [subprocess.run([sys.executable, "-c", _CACHE_KEY], capture_output=True, text=True, check=True).stdout
+    runs = [subprocess.run([sys.executable, "-c", _NAMES], capture_output=True, text=True, check=True).stdout
             for _ in range(2)]
-    assert keys[0] == keys[1]
-    assert len(set(keys[0].split())) == 6  # and the three variants, at both levels, stay apart
+    assert runs[0] == runs[1]
+    names = [line.split()[0] for line in runs[0].splitlines()]
+    uuids = [line.split()[1] for line in runs[0].splitlines()]
+    assert len(set(names)) == len(names) == 8 and len(set(uuids)) == 8
+    assert all("_v" in name.rsplit(".", 1)[-1] for name in names)
+
+
+def test_a_cache_entry_is_valid_only_for_the_core_sources_it_was_compiled_from(tmp_path, monkeypatch):
+    """numba checks only a kernel's own file; a change in any core source must read as a miss."""
+    (tmp_path / "probe_kernel.py").write_text(
+        "from noslipsim.core.jit import jit\n\n\n@jit\ndef twice(x):\n    return 2.0 * x\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    module = importlib.import_module("probe_kernel")
+    assert module.twice(1.5) == 3.0  # compiled and saved
+    sig = module.twice.signatures[0]
+    context = module.twice.targetctx
+    assert CoreCache(module.twice.py_func).load_overload(sig, context) is not None
+    monkeypatch.setattr(jit_module, "SOURCE_DIGEST", "another version of the core sources")
+    assert CoreCache(module.twice.py_func).load_overload(sig, context) is None
 
 
 def test_a_cache_write_waits_while_another_process_writes():
     """numba's cache save is an unlocked read-modify-write of the index.
 
     Two processes compiling two variants of one kernel at once could pick the
-    same data file, so that one variant's key loads the other's machine code
-    in every later process (seen: a no-slip batch kernel that ran the specular
-    law).  Each save now holds an exclusive lock beside the index: while
-    another holder has it, the save must not touch the index.
+    same data file, so that one variant's key loads the other variant's machine
+    code in every later process.  Each save holds an exclusive lock beside the
+    index: while another holder has it, the save must not touch the index.
     """
-    import fcntl
-    import os
-    import threading
-
-    from noslipsim.core.jit import CACHE_LOCK
 
     def cached_twice(x):
         return 2.0 * x

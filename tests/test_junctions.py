@@ -4,14 +4,15 @@ import math
 import numpy as np
 import pytest
 
-from noslipsim import Circle, Scene, Segment, simulate, tables
-from noslipsim.junctions import junction_arrays
-
 from invariants import leak_depth
+
+from noslipsim import Circle, Scene, Segment, simulate, tables
+from noslipsim._engine.table import kernel_table
 
 
 def junctions(scene):
-    start, pts = junction_arrays(scene)
+    table = kernel_table(scene)
+    start, pts = table.jstart, table.jpts
     return [pts[start[i]:start[i + 1]] for i in range(len(scene.elements))]
 
 
@@ -50,7 +51,7 @@ def test_acute_corners_never_leak(angle, law):
 
 def _all_pairs(scene):
     """Slow twin of junction_arrays on a plain scene: every pair of elements, no box filter."""
-    from noslipsim.junctions import _ON_TOL, _meet
+    from noslipsim._engine.junctions import _ON_TOL, _meet
 
     tol = _ON_TOL * scene.scale
     per = [[] for _ in scene.elements]

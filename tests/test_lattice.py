@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 from noslipsim import Circle, Scene, Segment, simulate, simulate_many, tables
-from noslipsim.lattice import cell_of, reaching_copies
+from noslipsim._engine.lattice import cell_of, reaching_copies
+from noslipsim._engine.table import kernel_table
 
 
 def explicit_copies(scene, cells):
@@ -190,7 +191,7 @@ def test_lattice_rejects_infinite_lines():
 
 
 def test_unit_cell_polygon_is_the_centred_ccw_cell():
-    from noslipsim.lattice import unit_cell_polygon
+    from noslipsim._engine.lattice import unit_cell_polygon
     square = unit_cell_polygon({"a1": [1.0, 0.0], "a2": [0.0, 1.0]})
     np.testing.assert_allclose(square, [[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]])
     tri = unit_cell_polygon(tables.hex_lorentz_cell().lattice)
@@ -211,7 +212,7 @@ def test_straight_grid_walk_matches_strip_walk(scene):
     from noslipsim.core.cells import walk_hit
     from noslipsim.core.tolerances import EXTENT_TOL
 
-    kinds, params, copies, A, B, _, _, _ = scene.kernel_inputs()
+    kinds, params, copies, A, B, _, _, _ = kernel_table(scene).arrays()
     r = float(params[0, 2])
     rng = np.random.default_rng(11)
     directions = [(1.0, 1e-9), (1.0, -3e-5), (1e-12, 1.0), (1.0, 1.0), (-1.0, 1.0 + 1e-7)]

@@ -29,6 +29,7 @@ import pytest
 
 from noslipsim import simulate, tables
 from noslipsim.reference import resume_reference, simulate_reference
+from noslipsim._engine.table import kernel_table
 
 EPS = float(np.finfo(float).eps)
 LENGTH = 1e6
@@ -122,9 +123,10 @@ def test_only_long_walls_are_checked_for_a_cancelled_distance():
     from noslipsim.core import layout
 
     def flags(scene):
-        column = scene.arrays()[1][:, layout.LONG_WALL].tolist()
+        table = kernel_table(scene)
+        column = table.params[:, layout.LONG_WALL].tolist()
         # the scene's kernel has the check compiled in exactly when a wall is flagged
-        assert scene.kernel_variant(layout.RECORD_NONE)[5] is scene.has_long_walls is any(column)
+        assert table.variant(layout.RECORD_NONE)[5] is table.long_walls is any(column)
         return column
 
     a = 2 * np.pi * np.arange(5) / 5
@@ -140,9 +142,10 @@ def test_only_long_walls_are_checked_for_a_cancelled_distance():
 def test_a_loop_compiled_without_the_check_is_off_far_along_the_wall(monkeypatch):
     """The compile-time flag is what keeps these hits exact: the loop without the check (``walls=False``,
     which every compact table runs) misses the bound here by orders of magnitude."""
-    from noslipsim import Scene
+    from noslipsim._engine.table import KernelTable
 
-    monkeypatch.setattr(Scene, "has_long_walls", property(lambda self: False))
+    variant = KernelTable.variant
+    monkeypatch.setattr(KernelTable, "variant", lambda self, mode: variant(self, mode)[:5] + (False,))
     for law, force in (("specular", "none"), ("no-slip", "onto_wall")):
         rows = one_step_errors("centred", law, FORCES[force], LENGTH / 2)
         worst = max(max(r["t_err"], r["v_err"] / r["force_gain"]) / r["bound"] for r in rows)

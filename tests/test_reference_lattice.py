@@ -35,8 +35,9 @@ import numpy as np
 import pytest
 from shadowing import one_step_references
 
-from noslipsim import Circle, Scene, Segment, reference, simulate, tables, theory
+from noslipsim import Circle, Scene, Segment, simulate, tables, theory
 from noslipsim.reference import resume_reference, simulate_reference
+from noslipsim.reference import walk as reference  # the cell walk: _strip_exit, _Table, MAX_CELLS_PER_FLIGHT
 
 #: Agreement asked of the float64 engine, relative to the orbit's scales.
 TOL = 1e-12

@@ -6,7 +6,7 @@ import pytest
 
 from noslipsim import simulate, tables
 from noslipsim.cli import main
-from noslipsim.metadata import VARIABLES
+from noslipsim._metadata import VARIABLES
 
 BOX = tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.2)])
 

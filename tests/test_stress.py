@@ -54,10 +54,11 @@ import pytest
 
 from noslipsim import Circle, Line, Scene, simulate, simulate_many, tables
 from noslipsim.core.tolerances import CONTACT_TOL, EXTENT_TOL, MAX_CELLS_PER_FLIGHT
-from noslipsim.lattice import cell_of, cell_origin
+from noslipsim._engine.lattice import cell_of, cell_origin
 from noslipsim.simulate import START_MARGIN
 
 import invariants as inv
+from noslipsim._engine.table import KernelTable, kernel_table
 
 EPS = float(np.finfo(float).eps)
 
@@ -922,14 +923,15 @@ def test_corridor_hit_precision_two_disks_per_cell_short():
     """The same flight through the lean loop's copy walk (two disks per cell)."""
     two = Scene((Circle((0.0, 0.0), 0.1, "outside"), Circle((0.5, 0.0), 0.1, "outside")),
                 lattice={"a1": (1.0, 0.0), "a2": (0.0, 1.0)})
-    assert two.disk_lattice and not two.one_disk_per_cell
+    assert kernel_table(two).disk_lattice and not kernel_table(two).one_disk_per_cell
     assert_corridor_precision(corridor_run(1e-6, "specular", lattice="square2", n=1))
 
 
 def general_loop_only(monkeypatch):
     """Run lattice scenes through the general loop (``core/loop.py``), not the lean disk loop."""
-    monkeypatch.setattr(Scene, "disk_lattice", property(lambda self: False))
-    assert not tables.sinai_torus(0.1).kernel_variant(1)[4]
+    variant = KernelTable.variant
+    monkeypatch.setattr(KernelTable, "variant", lambda self, mode: variant(self, mode)[:4] + (False,) + variant(self, mode)[5:])
+    assert not kernel_table(tables.sinai_torus(0.1)).variant(1)[4]
 
 
 def test_corridor_hit_precision_general_loop_short(monkeypatch):

@@ -1,8 +1,4 @@
 """noslipsim: exact event-driven no-slip and specular billiards under a constant force."""
-from ._numba_cache import invalidate_if_stale
-
-invalidate_if_stale()  # before any kernel is loaded from the cache
-
 from ._version import __version__
 from .elements import Arc, Circle, Line, Segment
 from .scenes import Scene

@@ -8,6 +8,7 @@ scheduler or the number of workers.
 """
 from __future__ import annotations
 
+import json
 import math
 import os
 import sys
@@ -18,12 +19,12 @@ import xarray as xr
 from ._validate import finite_float
 from ._version import __version__
 from .core import layout
-from .core.batch import (
-    F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y, N_FINAL, batch_kernels,
-)
-from .canonical import canonical_form
-from .lattice import cell_of, cell_origin
-from .metadata import annotate
+from .core.batch import F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y, N_FINAL
+from ._engine.canonical import canonical_form
+from ._engine.lattice import cell_of, cell_origin
+from ._engine.run import run_orbits
+from ._engine.table import kernel_table
+from ._metadata import annotate
 from .scenes import Scene
 from .simulate import START_MARGIN, check_limits
 
@@ -108,16 +109,25 @@ def check_starts(scene: Scene, positions, velocities, spins, start_elements=None
 
 
 # ---------------------------------------------------------------------------- one chunk
-def _run_chunk(inputs, variant, law, c, s, force, scale, starts, on, levels, max_collisions, max_time, mode,
-               n_rec, n_cols, mask, parallel):
-    kinds, params, copies, A, B, lattice, jstart, jpts = inputs
-    n = len(starts)
-    rec = np.full((n, n_rec, n_cols), np.nan)
-    final = np.zeros((n, N_FINAL))
-    kernel = batch_kernels(variant)[0 if parallel else 1]
-    kernel(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, force[0], force[1], starts, on,
-           max_collisions, max_time, levels, scale, mode, rec, mask, final)
+def _run_chunk(table, starts, on, levels, max_collisions, max_time, mode, n_rec, n_cols, mask):
+    """One compiled call over a block of orbits: their records and summaries."""
+    rec = np.full((len(starts), n_rec, n_cols), np.nan)
+    final = run_orbits(table, starts, max_collisions=max_collisions, max_time=max_time, levels=levels,
+                       start_elements=on, mode=mode, rec=rec, mask=mask)
     return rec, final
+
+
+def _run_threads(table, starts, on, levels, tail, threads):
+    """The orbits split into one block per thread, run at once (the kernels release the GIL); no dask."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    n = len(starts)
+    threads = max(1, min(threads, n))
+    size = math.ceil(n / threads) if n else 1
+    blocks = [slice(i, i + size) for i in range(0, n, size)] or [slice(0, 0)]
+    with ThreadPoolExecutor(threads) as pool:
+        parts = list(pool.map(lambda b: _run_chunk(table, starts[b], on[b], levels[b], *tail), blocks))
+    return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
 
 
 def _compute(tasks, scheduler, progress, num_workers=None):
@@ -186,14 +196,15 @@ def simulate_many(scene: Scene, positions, velocities, spins=None, *, max_collis
     chunk_size : int, optional
         Orbits per dask task (default: about four tasks per core).
     scheduler : None, str or distributed.Client
-        ``None``/'threads' (local threads), 'sync', 'numba' (one parallel
-        compiled call, no dask), a ``dask.distributed`` Client or its address.
+        ``None``/'threads' (local threads), 'sync', 'numba' (one compiled call
+        per thread, ``num_workers`` threads, no dask), a ``dask.distributed``
+        Client or its address.
     progress : bool, optional
         Show a progress bar (default: only when stderr is a terminal).
     num_workers : int, optional
-        Threads of the local threaded scheduler (default: one per core); a
-        workflow job passes the threads it was given.  Ignored by the other
-        schedulers.  The results do not depend on it.
+        Threads of the local threaded scheduler and of ``'numba'`` (default:
+        one per core); a workflow job passes the threads it was given.  Ignored
+        by the other schedulers.  The results do not depend on it.
 
     Returns
     -------
@@ -236,21 +247,17 @@ def simulate_many(scene: Scene, positions, velocities, spins=None, *, max_collis
     cells, origins, rel = form.kernel_starts(q)
     starts = np.ascontiguousarray(np.c_[rel, v, w])
     levels = np.full(n, form.user_level(level)) - origins[:, 1]
-    inputs = form.scene.kernel_inputs()
-    c, s = scene.noslip_coefficients
-    variant = form.scene.kernel_variant(mode)
-    batch_kernels(variant)  # built here, not raced for by the dask threads
-    args = (inputs, variant, scene.law_code, c, s, scene.force, form.scene.scale)
+    table = kernel_table(form.scene)
     tail = (max_collisions, max_time, mode, n_rec, n_cols, mask)
 
     if scheduler == "numba" or n == 0:
-        rec, final = _run_chunk(*args, starts, on, levels, *tail, True)
+        rec, final = _run_threads(table, starts, on, levels, tail, num_workers or os.cpu_count() or 1)
     else:
         import dask
 
         size = max(1, math.ceil(n / (4 * (os.cpu_count() or 1)))) if chunk_size is None else chunk_size
         run = dask.delayed(_run_chunk, pure=True)
-        tasks = [run(*args, starts[i:i + size], on[i:i + size], levels[i:i + size], *tail, False)
+        tasks = [run(table, starts[i:i + size], on[i:i + size], levels[i:i + size], *tail)
                  for i in range(0, n, size)]
         parts = _compute(tasks, scheduler, progress, num_workers)
         rec = np.concatenate([p[0] for p in parts]) if parts else np.zeros((0, n_rec, n_cols))
@@ -327,6 +334,6 @@ def _ensemble_dataset(scene, record, rec, final, limits):
         gamma=scene.gamma,
         force=list(scene.force),
         scene=scene.to_json(),
-        limits=str({k: (None if v is None else float(v)) for k, v in limits.items()}),
+        limits=json.dumps({k: (None if v is None else float(v)) for k, v in limits.items()}),
     )
     return annotate(ds)

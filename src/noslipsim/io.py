@@ -2,33 +2,96 @@
 from __future__ import annotations
 
 import datetime as _dt
+import functools
 import json
 import os
+import platform
+import subprocess
 import sys
 import tempfile
+from importlib import metadata
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
 from ._version import __version__
-from .metadata import annotate
+from ._metadata import annotate
 
 REFERENCES = ("J. Ahmed, T. Chumley, S. Cook, C. Cox, H. Grant, N. Petela, B. Rothrock, R. Xhafaj: "
               "Dynamics of the no-slip Galton board.")
 
 
+def _json_default(value):
+    """JSON for what ``json`` does not know: numpy scalars and arrays as Python numbers and lists."""
+    if hasattr(value, "tolist"):
+        return value.tolist()
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return str(value)
+
+
 def _attr(value):
-    """A netCDF-safe attribute: no dicts, None or bools (configs become JSON)."""
+    """A netCDF-safe attribute: no dicts, None or bools; structure becomes JSON.
+
+    Dicts, nested or ragged sequences and sequences of anything but numbers
+    become JSON strings (``json.loads`` gives them back); a flat sequence of
+    numbers stays a netCDF numeric array.
+    """
     if isinstance(value, (bool, np.bool_)):
         return int(value)
     if value is None:
         return ""
     if isinstance(value, dict):
-        return json.dumps(value, sort_keys=True, default=float)
+        return json.dumps(value, sort_keys=True, default=_json_default)
+    if isinstance(value, np.ndarray) and value.ndim > 1:
+        return json.dumps(value.tolist())
     if isinstance(value, (list, tuple)):
-        arr = np.asarray(value)
-        return arr if arr.dtype.kind in "iuf" else json.dumps(list(value), default=str)
+        try:
+            arr = np.asarray(value)
+        except ValueError:                       # ragged
+            arr = None
+        if arr is not None and arr.ndim == 1 and arr.dtype.kind in "iuf":
+            return arr
+        return json.dumps(list(value), default=_json_default)
     return value
+
+
+#: The packages whose versions decide a dataset's last bits (recorded in every dataset).
+SOFTWARE = ("numpy", "numba", "llvmlite", "xarray", "netCDF4")
+
+
+@functools.lru_cache(maxsize=None)
+def provenance():
+    """What made a dataset: the software versions and the git state of noslipsim's source.
+
+    Returns a dict of netCDF-safe attributes: ``software`` (JSON: Python and
+    :data:`SOFTWARE` versions, the machine), ``git_commit`` (the commit of the
+    checkout noslipsim was imported from, ``""`` outside a git checkout) and
+    ``git_dirty`` (1 if that checkout had uncommitted changes, 0 if not, -1
+    unknown).  Chaotic ensembles change with the last bits of the arithmetic,
+    so these say which results a rerun can reproduce bit for bit
+    (docs/datasets.md, "Provenance").
+    """
+    software = {"python": platform.python_version(), "machine": platform.machine()}
+    for name in SOFTWARE:
+        try:
+            software[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            software[name] = ""
+    source = Path(__file__).resolve().parent
+    commit, dirty = "", -1
+    try:
+        run = functools.partial(subprocess.run, cwd=source, capture_output=True, text=True, timeout=10)
+        head = run(["git", "rev-parse", "HEAD"])
+        if head.returncode == 0:
+            commit = head.stdout.strip()
+            status = run(["git", "status", "--porcelain", "--untracked-files=no"])
+            dirty = int(bool(status.stdout.strip())) if status.returncode == 0 else -1
+    except (OSError, subprocess.SubprocessError):
+        pass
+    return {"software": json.dumps(software, sort_keys=True), "git_commit": commit, "git_dirty": dirty}
 
 
 def describe(ds: xr.Dataset, *, title=None, config=None, history=None) -> xr.Dataset:
@@ -44,6 +107,7 @@ def describe(ds: xr.Dataset, *, title=None, config=None, history=None) -> xr.Dat
         + f"[{stamp}] {call} - noslipsim {__version__}",
         references=REFERENCES,
         Conventions="CF-1.8",
+        **provenance(),
     )
     if config is not None:
         attrs["config"] = json.dumps(config, sort_keys=True, default=float)

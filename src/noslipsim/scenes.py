@@ -25,9 +25,8 @@ from ._unit import unit_pair
 from ._validate import finite_vector, no_unknown_keys, nonnegative, read_yaml, required
 from .core import layout
 from .core.laws import noslip_coefficients
-from .core.loop import kernel_flags
+from ._engine.lattice import cell_of, lattice_matrix
 from .elements import Arc, Circle, Line, Segment, element_from_dict
-from .lattice import cell_of, disks_apart, lattice_matrix, reaching_copies
 
 LAWS = {"no-slip": layout.NOSLIP, "noslip": layout.NOSLIP, "specular": layout.SPECULAR}
 _SCENE_KEYS = {"law", "gamma", "force", "elements", "lattice"}
@@ -45,11 +44,6 @@ def _law_name(law):
 #: parallel, or elements spanning many cells) is refused instead of hanging.
 MAX_LATTICE_COPIES = 1000
 
-#: Disks of a lattice run the lean loop (:attr:`Scene.disk_lattice`) when no two come within
-#: this gap, relative to the cell's size: far outside the corner rule's contact band
-#: (``CONTACT_TOL``), so the general loop could never treat two of them as touching.
-DISK_GAP = 1e-9
-
 
 def _check_copies(elements, lattice):
     """Refuse a lattice whose elements would need more than ``MAX_LATTICE_COPIES`` copies per cell."""
@@ -64,7 +58,7 @@ def _check_copies(elements, lattice):
     for e in elements:
         x0, y0, x1, y1 = e.bbox()
         if not all(map(math.isfinite, (x0, y0, x1, y1))):
-            continue  # an infinite element: reaching_copies names it
+            continue  # an infinite element: refused by name in Scene.__post_init__
         with np.errstate(all="ignore"):
             coords = np.array([[x0, y0], [x1, y0], [x0, y1], [x1, y1]]) @ B.T
             span = coords.max(axis=0) - coords.min(axis=0)
@@ -143,7 +137,9 @@ class Scene:
             object.__setattr__(self, "lattice", {"a1": [float(v) for v in a1], "a2": [float(v) for v in a2]})
             _check_copies(self.elements, self.lattice)
             _check_lattice_segments(self.elements, self.lattice)
-            reaching_copies(self.elements, self.lattice)  # rejects infinite elements
+            for i, e in enumerate(self.elements):
+                if isinstance(e, Line):
+                    raise ValueError(f"elements[{i}]: infinite lines cannot be repeated on a lattice")
 
     # ---------------------------------------------------------------- file format
     @classmethod
@@ -212,133 +208,27 @@ class Scene:
         d.update(changes)
         return Scene(**d)
 
-    # ---------------------------------------------------------------- kernel form
+    # ---------------------------------------------------------------- physics
     @property
     def law_code(self):
+        """The law as the kernels take it (``layout.SPECULAR`` or ``layout.NOSLIP``)."""
         return LAWS[self.law]
-
-    def kernel_variant(self, mode):
-        """The compile-time flags of the event loop this scene needs (:func:`core.loop.orbit_kernel`).
-
-        A scene without force never pays for cubic or quartic exits, a
-        specular one for spin updates, a plain one for the cell walk, and
-        ``mode = RECORD_NONE`` for the recorder, and a table without long walls
-        (:attr:`has_long_walls`) for their exact check.
-        """
-        return kernel_flags(self.force != (0.0, 0.0), self.law_code == layout.NOSLIP,
-                            self.lattice is not None, mode, self.disk_lattice, self.has_long_walls)
-
-    @property
-    def has_long_walls(self):
-        """True if a line or a segment is long against the table's smallest feature (``layout.LONG_WALL``).
-
-        Only such a wall can carry a hit far from its ``p0``, where the plain
-        distance cancels; the event loop checks those hits exactly
-        (:func:`noslipsim.core.events.exact_line_hit`), and a table without
-        one runs a loop compiled without the check.
-        """
-        return any(flag != 0.0 for flag in self._long_walls())
-
-    @property
-    def disk_lattice(self):
-        """True for a lattice of disjoint disk scatterers without force (Sinai torus, Lorentz gases).
-
-        One or several disks per cell, of any radii, each inside its cell or
-        reaching into neighbouring ones; no two disks (lattice copies included)
-        come within ``DISK_GAP`` of each other (relative to the cell's size).
-        Such a scene runs the lean loop of :mod:`noslipsim.core.disks`: its
-        disks are convex and never touch, so it needs no deflation, corner rule
-        or extent test.
-        """
-        if self.lattice is None or self.force != (0.0, 0.0):
-            return False
-        if not all(isinstance(e, Circle) and e.side == "outside" for e in self.elements):
-            return False
-        cached = self.__dict__.get("_disk_lattice")
-        if cached is None:
-            A, _ = lattice_matrix(self.lattice)
-            size = max(self.scale, float(np.abs(A).sum(axis=1).max()))
-            cached = disks_apart([(e.center, e.radius) for e in self.elements], self.lattice, DISK_GAP * size)
-            object.__setattr__(self, "_disk_lattice", cached)
-        return cached
-
-    @property
-    def one_disk_per_cell(self):
-        """True for a lattice of one disk scatterer inside each cell, without force (Sinai torus, Lorentz gas).
-
-        The special case of :attr:`disk_lattice` whose lean loop needs no copy
-        loop (:func:`noslipsim.core.disks.disk_walk`).
-        """
-        if self.lattice is None or self.force != (0.0, 0.0) or len(self.elements) != 1:
-            return False
-        e = self.elements[0]
-        if not (isinstance(e, Circle) and e.side == "outside"):
-            return False
-        copies = self.kernel_inputs()[2]
-        return copies.shape == (1, 3) and not copies[0, 1:].any()
 
     @property
     def noslip_coefficients(self):
         """``(c, s)`` of the no-slip law for this scene's gamma, with ``c^2 + s^2`` closest to 1."""
         return unit_pair(*noslip_coefficients(self.gamma))
 
-    def arrays(self):
-        """``(kinds, params)`` arrays for the kernels (with the end-band factors of segments and arcs)."""
-        from .junctions import end_factors
-
-        kinds = np.array([e.kind for e in self.elements], dtype=np.int64)
-        params = np.zeros((len(self.elements), layout.N_PARAMS))
-        for i, e in enumerate(self.elements):
-            row = e.params()
-            params[i, : len(row)] = row
-            if isinstance(e, Segment):  # its own end point, for distances far along it
-                for col, value in e.exact_params().items():
-                    params[i, col] = value
-        params[:, layout.END_START:layout.END_END + 1] = end_factors(self)
-        params[:, layout.LONG_WALL] = self._long_walls()
-        return kinds, params
-
-    def _long_walls(self):
-        """1.0 per line and per segment long against the table's smallest feature (``layout.LONG_WALL``)."""
-        features = [e.length() if isinstance(e, Segment) else e.radius
-                    for e in self.elements if isinstance(e, (Segment, Circle, Arc))]
-        smallest = min(features, default=math.inf)
-        return [1.0 if isinstance(e, Line) or (isinstance(e, Segment)
-                                               and e.length() > layout.LONG_WALL_RATIO * smallest) else 0.0
-                for e in self.elements]
-
-    def kernel_inputs(self):
-        """Everything the event loop needs about the table.
-
-        ``(kinds, params, copies, A, B, lattice, jstart, jpts)``: elements, the
-        copies that reach a cell, lattice matrix and inverse, the periodic flag
-        and the junction points (see :mod:`noslipsim.junctions`).
-        """
-        cached = self.__dict__.get("_kernel_inputs")
-        if cached is not None:
-            return cached
-        from .junctions import junction_arrays
-
-        kinds, params = self.arrays()
-        if self.lattice is None:
-            copies = np.zeros((len(kinds), 3), dtype=np.int64)
-            copies[:, 0] = np.arange(len(kinds))
-            A = B = np.zeros((2, 2))
-        else:
-            A, B = lattice_matrix(self.lattice)
-            copies = reaching_copies(self.elements, self.lattice)
-        out = (kinds, params, copies, A, B, self.lattice is not None, *junction_arrays(self))
-        object.__setattr__(self, "_kernel_inputs", out)
-        return out
-
+    # ---------------------------------------------------------------- geometry
     def cell_scene(self, cell=(0, 0)):
         """The plain scene of every element copy that reaches ``cell`` (for inside tests)."""
         if self.lattice is None:
             return self
-        copies = reaching_copies(self.elements, self.lattice)
+        from ._engine.table import scene_copies
+
         A, _ = lattice_matrix(self.lattice)
         elems = []
-        for e, o1, o2 in copies:
+        for e, o1, o2 in scene_copies(self):
             dx, dy = A @ np.array([o1 + cell[0], o2 + cell[1]], float)
             elems.append(self.elements[e].shifted(dx, dy))
         return self.replace(elements=tuple(elems), lattice=None)

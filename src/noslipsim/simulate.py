@@ -9,11 +9,13 @@ import xarray as xr
 
 from ._validate import finite_float, finite_vector
 from ._version import __version__
+from ._engine.canonical import canonical_form
+from ._engine.lattice import cell_of, cell_origin
+from ._engine.run import run_orbits
+from ._engine.table import kernel_table
 from .core import layout
-from .core.loop import orbit_kernel
-from .metadata import annotate
-from .canonical import canonical_form
-from .lattice import cell_of, cell_origin
+from .core.batch import F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y
+from ._metadata import annotate
 from .scenes import Scene
 
 _COLUMNS = {
@@ -126,20 +128,18 @@ def start_cell(scene: Scene, q):
 def run_one(scene: Scene, q, v, w, max_collisions, max_time, level, mode, rec):
     """Run the kernel for one validated start; positions and cells come back absolute.
 
-    The kernel runs the scene's canonical form (:mod:`noslipsim.canonical`);
+    The kernel runs the scene's canonical form (:mod:`noslipsim._engine.canonical`);
     positions, levels and cell indices are mapped to and from the user's coordinates here.
     """
     form = canonical_form(scene)
-    kscene = form.scene
-    kinds, params, copies, A, B, lattice, jstart, jpts = kscene.kernel_inputs()
-    mask = np.zeros(len(kinds), dtype=np.bool_)  # no portrait recorder for a single orbit
-    c, s = scene.noslip_coefficients
-    ax, ay = scene.force
     cell, origin, r = form.kernel_starts(q)
-    n, stop, n_corner, n_rec, t, x, y, vx, vy, w_f, m1, m2 = orbit_kernel(*kscene.kernel_variant(mode))(
-        kinds, params, copies, A, B, lattice, jstart, jpts, scene.law_code, c, s, ax, ay, r[0], r[1], v[0], v[1], w,
-        max_collisions, max_time, form.user_level(level) - origin[1], kscene.scale, mode, rec, mask)
-    if mode == layout.RECORD_LOG and lattice:
+    final = run_orbits(kernel_table(form.scene), [[r[0], r[1], v[0], v[1], w]], max_collisions=max_collisions,
+                       max_time=max_time, levels=[form.user_level(level) - origin[1]], mode=mode,
+                       rec=rec[None])[0]
+    n, stop, n_corner, n_rec = (int(final[k]) for k in (F_N, F_STOP, F_CORNER, F_NREC))
+    t, x, y, vx, vy, w_f = final[[F_T, F_X, F_Y, F_VX, F_VY, F_W]]
+    m1, m2 = int(final[F_CELL1]), int(final[F_CELL2])
+    if mode == layout.RECORD_LOG and scene.lattice is not None:
         log = rec[:n_rec]
         xs = log[:, layout.LOG_X] + origin[0]
         ys = log[:, layout.LOG_Y] + origin[1]
@@ -151,7 +151,7 @@ def run_one(scene: Scene, q, v, w, max_collisions, max_time, level, mode, rec):
     x, y = form.user_positions(x, y)
     if stop == layout.STOP_LEVEL:
         y = level  # the stop is the exact crossing of the user's level
-    final = (t, x, y, vx, vy, w_f)
+    final = (float(t), float(x), float(y), float(vx), float(vy), float(w_f))
     return n, stop, n_corner, n_rec, final, (int(m[0]), int(m[1]))
 
 

@@ -28,6 +28,7 @@ import math
 import numpy as np
 import xarray as xr
 
+from ._metadata import annotate
 from ._unit import unit_pair
 from ._validate import finite_float, finite_vector
 from ._version import __version__
@@ -39,14 +40,14 @@ UNIFORM_BALL = math.sqrt(2.0 / 5.0)
 
 COMPONENTS = ("x", "y", "z")
 
-_VARIABLES = {
-    # name: (log column, vector?, long_name)
-    "time": (kernel.LOG_T, False, "time of the bounce"),
-    "position": (kernel.LOG_Q, True, "position of the sphere's centre at the bounce (z = 0)"),
-    "velocity": (kernel.LOG_V, True, "velocity just after the bounce"),
-    "spin": (kernel.LOG_W, True, "scaled spin W = gamma R omega just after the bounce"),
-    "velocity_in": (kernel.LOG_V_IN, True, "velocity just before the bounce"),
-    "spin_in": (kernel.LOG_W_IN, True, "scaled spin W = gamma R omega just before the bounce"),
+_COLUMNS = {
+    # name: (log column, vector?); long names and units: noslipsim._metadata
+    "time": (kernel.LOG_T, False),
+    "position": (kernel.LOG_Q, True),
+    "velocity": (kernel.LOG_V, True),
+    "spin": (kernel.LOG_W, True),
+    "velocity_in": (kernel.LOG_V_IN, True),
+    "spin_in": (kernel.LOG_W_IN, True),
 }
 
 
@@ -83,7 +84,7 @@ def simulate_sphere(position, velocity, spin, gamma=UNIFORM_BALL, gravity=1.0, n
         Dims ``collision`` and ``component`` (``'x', 'y', 'z'``): ``time``,
         ``position``, ``velocity`` and ``spin`` just after each bounce,
         ``velocity_in`` and ``spin_in`` just before.  Every variable has
-        ``long_name`` and ``units`` (``'1'``, nondimensional).
+        ``long_name`` and ``units`` (``'1'``, nondimensional; docs/datasets.md).
 
     Raises
     ------
@@ -111,18 +112,12 @@ def simulate_sphere(position, velocity, spin, gamma=UNIFORM_BALL, gravity=1.0, n
 
 def _dataset(log, q, v, w, gamma, gravity):
     data = {}
-    for name, (col, vector, long_name) in _VARIABLES.items():
+    for name, (col, vector) in _COLUMNS.items():
         if vector:
-            data[name] = (("collision", "component"), log[:, col:col + 3].copy(),
-                          {"long_name": long_name, "units": "1"})
+            data[name] = (("collision", "component"), log[:, col:col + 3].copy())
         else:
-            data[name] = (("collision",), log[:, col].copy(), {"long_name": long_name, "units": "1"})
-    coords = {
-        "collision": ("collision", np.arange(len(log)),
-                      {"long_name": "bounce index", "units": "1"}),
-        "component": ("component", list(COMPONENTS),
-                      {"long_name": "Cartesian component (z up, plane z = 0)", "units": "1"}),
-    }
+            data[name] = (("collision",), log[:, col].copy())
+    coords = {"collision": ("collision", np.arange(len(log))), "component": ("component", list(COMPONENTS))}
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update(
         title="noslipsim rough sphere bouncing on a plane",
@@ -132,4 +127,4 @@ def _dataset(log, q, v, w, gamma, gravity):
         gravity=gravity,
         start=json.dumps(dict(position=q.tolist(), velocity=v.tolist(), spin=w.tolist())),
     )
-    return ds
+    return annotate(ds)

@@ -1,7 +1,7 @@
-# All Python helpers of the workflow: config validation, the lists of targets, paths.
-# Rules live in simulations.smk (datasets), figures.smk (figures) and report.smk (numbers).
+# All Python helpers of the workflow: config validation, the tables of datasets, figures and numbers
+# from which simulations.smk, figures.smk and report.smk generate their rules, paths.
 # How to add a figure: workflow/README.md.
-import json
+import re
 
 from snakemake.utils import validate
 
@@ -9,39 +9,156 @@ from snakemake.utils import validate
 validate(config, schema="../schemas/config.schema.yaml")
 
 
-# ---------------------------------------------------------------- what `rule all` builds
-# One entry per figure, grouped by subject (DESIGN numbering: figNN_topic; figS1 beyond the paper).
-FIGURES = {
-    "galton": ["fig02_galtonboard", "fig03_normal", "figS1_galton_trapping"],
-    "orbits": ["fig01_specnoslip", "fig04_pentagons", "fig05_bouncingball", "fig06_newwedge",
-               "fig08_noslipstablesinai", "fig16_3dbounce"],
-    "portraits": ["fig10_phaseportraits", "fig11_vppregpoly", "fig12_lorentzgamma", "fig13_VPPforce"],
-    "stability": ["fig07_wedge", "fig09_2perunstablea", "fig14_2perunstable", "fig15_stabexp"],
+# ---------------------------------------------------------------- config sections
+def section(path, only=None, without=()):
+    """The config section at ``path`` ("stability.launch"), optionally restricted to some keys.
+
+    A rule passes the sections it depends on as params, so that changing a value reruns exactly
+    the jobs that use it (and nothing that does not)."""
+    value = config
+    for key in path.split("."):
+        value = value[key]
+    if only is not None:
+        return {k: value[k] for k in only}
+    return {k: v for k, v in value.items() if k not in without} if without else value
+
+
+def stability_common():
+    """The stability config values every stability dataset depends on (gamma, gravity)."""
+    return {k: config["stability"][k] for k in ("gamma", "gravity")}
+
+
+# ---------------------------------------------------------------- kernels
+# Kernel variants each subject's simulations run, compiled by rule compile_kernel (one job per
+# variant) before the simulation jobs fan out, so that parallel jobs never compile one variant twice.
+# An entry is "table:law:record": table in {plain, plain+force, walls+force, lattice, lattice+force,
+# disks} (disks: disk scatterers on a lattice, no force), law in {no-slip, specular}, record in
+# {none, log, portrait}: none for simulate_many's final states and counts, log for simulate() and
+# full collision logs (one kernel), portrait for phase-portrait points.
+KERNELS = {
+    "galton": ["lattice+force:no-slip:none", "lattice+force:specular:none",
+               "lattice+force:no-slip:log", "lattice+force:specular:log"],
+    # wedges (simulate, monodromy, the periodic-orbit finder) and the two-disk grids
+    "stability": ["walls+force:no-slip:log", "walls+force:no-slip:none", "plain:no-slip:log", "plain:no-slip:none"],
+    # the rectangle and polygons; the bouncing ball (half-plane) and the wedges of Figure 6 under gravity
+    "orbits": ["plain:specular:log", "plain:no-slip:log", "walls+force:no-slip:log"],
+    # portraits (lemon, polygons, closed hexagonal cell), first flights (none), Lyapunov runs (log);
+    # the Sinai torus and the force-free hexagonal gas are "disks", the hexagonal gas under a force "lattice+force"
+    "portraits": [f"{table}:{law}:{record}" for table, law in (("plain", "specular"), ("plain", "no-slip"),
+                                                                ("plain+force", "no-slip"), ("disks", "no-slip"))
+                  for record in ("portrait", "none", "log")] + ["lattice+force:no-slip:none"],
+}
+ALL_KERNELS = sorted({entry for entries in KERNELS.values() for entry in entries})
+
+
+def kernel_stamp(entry):
+    """The file rule compile_kernel writes once the kernel variant ``entry`` is compiled (or loaded)."""
+    return f"results/kernels/{entry.replace(':', '.')}.json"
+
+
+def kernels_of(subject):
+    return [kernel_stamp(entry) for entry in KERNELS[subject]]
+
+
+# ---------------------------------------------------------------- datasets
+# One entry per dataset (simulations.smk makes its rule, of the same name). Its subject, output
+# file results/<subject>/<file>, script workflow/scripts/<script>.py, the config sections it
+# depends on (params), and its threads (ENSEMBLE for the dask ensembles; Snakemake lowers it to --cores).
+ENSEMBLE = 8
+
+
+def dataset(subject, file, key, script, params, threads=1):
+    return {"subject": subject, "output": f"results/{subject}/{file}", "key": key, "script": script,
+            "params": params, "threads": threads}
+
+
+def _grid(kind):
+    return dataset("stability", f"grid_{kind}.nc", "grid", "stability_grid",
+                   lambda: {"common": stability_common(), "shared": section("stability.grids.shared"),
+                            "grid": section(f"stability.grids.{kind}"), "kind": kind})
+
+
+def _orbits(name):
+    return dataset("orbits", f"{name}.nc", name, f"orbits_{name}", lambda: {name: section(f"orbits.{name}")})
+
+
+DATASETS = {
+    # Figures 2, 3, S1
+    "galton_orbits": dataset("galton", "orbits.nc", "orbits", "galton_orbits",
+                             lambda: {"board": section("galton.board"), "orbits": section("galton.orbits")}),
+    "galton_distribution": dataset("galton", "distribution.nc", "distribution", "galton_distribution",
+                                   lambda: {"board": section("galton.board"), "run": section("galton.distribution")},
+                                   ENSEMBLE),
+    "galton_arrivals": dataset("galton", "arrivals.nc", "arrivals", "galton_arrivals",
+                               lambda: {"board": section("galton.board"), "run": section("galton.arrivals")},
+                               ENSEMBLE),
+    "galton_radius_sweep": dataset("galton", "radius_sweep.nc", "sweep", "galton_radius_sweep",
+                                   lambda: {"board": section("galton.board"), "run": section("galton.radius_sweep")},
+                                   ENSEMBLE),
+    # Figures 1, 4, 5, 6, 8, 16
+    **{f"orbits_{name}": _orbits(name) for name in ("specnoslip", "pentagons", "bounce", "newwedge", "twodisks",
+                                                     "sphere")},
+    # Figures 10-13
+    **{f"portraits_{name}": dataset("portraits", f"{name}.nc", "portraits", f"portraits_{name}",
+                                    (lambda name=name: {"run": section(f"portraits.{name}")}), ENSEMBLE)
+       for name in ("phaseportraits", "polygons", "sinai_gamma", "hex_force")},
+    # Lyapunov exponents orbit after orbit (one thread: the Benettin loop holds the GIL)
+    "portraits_islands": dataset("portraits", "islands.nc", "islands", "portraits_islands",
+                                 lambda: {"run": section("portraits.islands", without=("level",))}),
+    # Figures 7, 9, 14, 15
+    "stability_wedge_orbits": dataset("stability", "wedge_orbits.nc", "orbits", "stability_wedge_orbits",
+                                      lambda: {"common": stability_common(), "run": section("stability.wedge")}),
+    "stability_wedge_perturbed": dataset("stability", "wedge_perturbed.nc", "orbits", "stability_perturbed",
+                                         lambda: {"common": stability_common(), "run": section("stability.perturbed"),
+                                                  "section": "perturbed"}),
+    "stability_launch_orbits": dataset("stability", "launch_orbits.nc", "orbits", "stability_perturbed",
+                                       lambda: {"common": stability_common(),
+                                                "run": section("stability.launch", without=("scan",)),
+                                                "section": "launch"}),
+    "stability_launch_scan": dataset("stability", "launch_scan.nc", "scan", "stability_launch_scan",
+                                     lambda: {"common": stability_common(),
+                                              "run": section("stability.launch", only=("ell", "thetas", "scan"))}),
+    **{f"stability_grid_{kind}": _grid(kind) for kind in ("noforce", "force", "theta")},
 }
 
-# Subjects that compute numbers the paper states (rule numbers_<subject> in report.smk).
-NUMBER_SUBJECTS = ["galton", "orbits", "stability", "portraits"]
 
-# Kernel variants each subject's simulations run, compiled by rule compile_kernels before the
-# simulation jobs fan out (numba's cache is not safe to fill from parallel processes, numba #4807).
-# An entry is "table:law:record": table in {plain, plain+force, lattice, lattice+force, disks}
-# (disks: one disk per lattice cell, no force), law in {no-slip, specular}, record in
-# {final, count, portrait, log} (simulate_many) or orbit (one simulate() call).
-KERNELS = {
-    "galton": ["lattice+force:no-slip:final", "lattice+force:specular:final",
-               "lattice+force:no-slip:orbit", "lattice+force:specular:orbit"],
-    # wedges (simulate, monodromy, the periodic-orbit finder) and the two-disk grids (sync scheduler: serial kernels)
-    "stability": ["walls+force:no-slip:orbit", "plain:no-slip:orbit", "plain:no-slip:log",
-                  "plain:no-slip:count", "walls+force:no-slip:log", "walls+force:no-slip:count"],
-    # the rectangle and polygons; the bouncing ball (half-plane) and the wedges of Figure 6 under gravity
-    "orbits": ["plain:specular:orbit", "plain:no-slip:orbit", "walls+force:no-slip:orbit"],
-    # portraits (lemon, polygons, closed hexagonal cell), first flights (final), Lyapunov runs (orbit);
-    # the Sinai torus and the force-free hexagonal gas are "disks", the hexagonal gas under a force "lattice+force"
-    "portraits": ["plain:specular:portrait", "plain:specular:final", "plain:specular:orbit",
-                  "plain:no-slip:portrait", "plain:no-slip:final", "plain:no-slip:orbit",
-                  "plain+force:no-slip:portrait", "plain+force:no-slip:final", "plain+force:no-slip:orbit",
-                  "disks:no-slip:portrait", "disks:no-slip:final", "disks:no-slip:orbit",
-                  "lattice+force:no-slip:final"],
+def dataset_file(name):
+    return DATASETS[name]["output"]
+
+
+# ---------------------------------------------------------------- figures
+# One entry per figure (figures.smk; DESIGN numbering figNN_topic, figS1 beyond the paper): the
+# report category, its datasets ({input name: dataset}) and the config values that only the
+# drawing depends on (classification thresholds, bin widths, sketch geometry).
+def figure(category, inputs, params=lambda: {}):
+    return {"category": category, "inputs": inputs, "params": params}
+
+
+THRESHOLD = lambda: {"threshold": config["portraits"]["regular_threshold"]}
+ONSETS = lambda: {**THRESHOLD(), "level": config["portraits"]["islands"]["level"]}
+
+FIGURES = {
+    "fig01_specnoslip": figure("Orbits", {"specnoslip": "orbits_specnoslip"}),
+    "fig02_galtonboard": figure("Galton board", {"orbits": "galton_orbits"}),
+    "fig03_normal": figure("Galton board", {"distribution": "galton_distribution"},
+                           lambda: {"histogram": section("galton.histogram")}),
+    "fig04_pentagons": figure("Orbits", {"pentagons": "orbits_pentagons"}),
+    "fig05_bouncingball": figure("Orbits", {"bounce": "orbits_bounce"}),
+    "fig06_newwedge": figure("Orbits", {"newwedge": "orbits_newwedge"}),
+    "fig07_wedge": figure("Stability", {"orbits": "stability_wedge_orbits"}),
+    "fig08_noslipstablesinai": figure("Orbits", {"twodisks": "orbits_twodisks"}),
+    "fig09_2perunstablea": figure("Stability", {"orbits": "stability_wedge_perturbed"}),
+    "fig10_phaseportraits": figure("Phase portraits", {"portraits": "portraits_phaseportraits"}, THRESHOLD),
+    "fig11_vppregpoly": figure("Phase portraits", {"portraits": "portraits_polygons"}),
+    "fig12_lorentzgamma": figure("Phase portraits", {"portraits": "portraits_sinai_gamma",
+                                                      "islands": "portraits_islands"}, ONSETS),
+    "fig13_VPPforce": figure("Phase portraits", {"portraits": "portraits_hex_force"}, THRESHOLD),
+    "fig14_2perunstable": figure("Stability", {"orbits": "stability_launch_orbits", "scan": "stability_launch_scan"}),
+    "fig15_stabexp": figure("Stability", {"noforce": "stability_grid_noforce", "force": "stability_grid_force",
+                                          "theta": "stability_grid_theta"},
+                            lambda: {"sketch": section("stability.grids.sketch")}),
+    "fig16_3dbounce": figure("Orbits", {"sphere": "orbits_sphere"}),
+    "figS1_galton_trapping": figure("Galton board", {"arrivals": "galton_arrivals", "sweep": "galton_radius_sweep"}),
 }
 
 
@@ -50,44 +167,56 @@ def figure_files(name):
     return [f"figures/{name}.pdf", f"figures/{name}.png"]
 
 
-def all_figures():
-    return [name for names in FIGURES.values() for name in names]
-
-
-def all_targets():
-    """Everything `snakemake` builds by default: every figure and the computed numbers."""
-    files = [f for name in all_figures() for f in figure_files(name)]
-    return files + ["figures/numbers.json", "figures/numbers.md"]
+# ---------------------------------------------------------------- numbers
+# Subjects that compute numbers the paper states (numbers_<subject> in report.smk): their
+# datasets and the config values the computation alone depends on.
+NUMBERS = {
+    "galton": figure(None, {"distribution": "galton_distribution", "arrivals": "galton_arrivals",
+                            "sweep": "galton_radius_sweep"}),
+    "orbits": figure(None, {"specnoslip": "orbits_specnoslip", "pentagons": "orbits_pentagons",
+                            "bounce": "orbits_bounce", "twodisks": "orbits_twodisks", "sphere": "orbits_sphere"}),
+    "stability": figure(None, {"noforce": "stability_grid_noforce", "force": "stability_grid_force",
+                               "theta": "stability_grid_theta", "scan": "stability_launch_scan",
+                               "wedge": "stability_wedge_orbits"},
+                        lambda: {"band": config["stability"]["grids"]["threshold_band"],
+                                 "min_run": config["stability"]["grids"]["min_run"],
+                                 "thetas": config["stability"]["launch"]["thetas"]}),
+    "portraits": figure(None, {"islands": "portraits_islands"}, ONSETS),
+}
 
 
 def number_fragments():
-    return [f"results/numbers/{subject}.json" for subject in NUMBER_SUBJECTS]
+    return [f"results/numbers/{subject}.json" for subject in NUMBERS]
 
 
-def core_digest():
-    """Hash of the compiled core's sources: the kernels are recompiled when it changes."""
-    from noslipsim._numba_cache import source_digest
-
-    return source_digest()
+def inputs_of(entry):
+    """``{input name: dataset file}`` of a figure or numbers entry."""
+    return {key: dataset_file(name) for key, name in entry["inputs"].items()}
 
 
-def stability_common():
-    """The stability config values every stability dataset depends on (gamma, gravity)."""
-    return {k: config["stability"][k] for k in ("gamma", "gravity")}
+# ---------------------------------------------------------------- scripts of generated rules
+#: The script of each generated rule, by rule name.
+SCRIPTS = {**{name: spec["script"] for name, spec in DATASETS.items()}, **{name: name for name in FIGURES},
+           **{f"numbers_{subject}": f"numbers_{subject}" for subject in NUMBERS}}
 
 
-# ---------------------------------------------------------------- runtime
-# Threads of an ensemble job (its dask thread pool).  Snakemake lowers it to --cores (-j2: two
-# threads); on a cluster the profile's set-threads decides (workflow/profiles/slurm).
-ENSEMBLE_THREADS = 8
+def script_of(running, defining):
+    """The script path of a rule made in a loop.
+
+    Snakemake evaluates a rule's `script:` twice: when the rule is defined (the loop's current
+    entry) and when its job runs (after the loop, so the loop variable is the last entry).  The
+    job's own rule name (``rule`` inside the running job, ``vars().get("rule")``) decides then."""
+    return f"../scripts/{SCRIPTS[running or defining]}.py"
 
 
-def dask_scheduler():
-    """The dask.distributed scheduler address of the config, or None for local threads."""
-    return config.get("dask_scheduler")
+# ---------------------------------------------------------------- what `rule all` builds
+def all_targets():
+    """Everything `snakemake` builds by default: every figure and the computed numbers."""
+    files = [f for name in FIGURES for f in figure_files(name)]
+    return files + ["figures/numbers.json", "figures/numbers.md"]
 
 
-# ---------------------------------------------------------------- paths
+# ---------------------------------------------------------------- paths and software
 # The software of every rule (used with --software-deployment-method conda), relative to rules/.
 SOFTWARE = "../envs/noslipsim.yaml"
 
@@ -100,14 +229,8 @@ def benchmark_file(name):
     return f"logs/benchmarks/{name}.tsv"
 
 
-def kernel_entries(wildcards):
-    """The KERNELS entries of the subject of a compile_kernels job."""
-    return KERNELS[wildcards.subject]
+def core_digest():
+    """Hash of the compiled core's sources: the kernels are recompiled when it changes."""
+    from noslipsim.core.jit import SOURCE_DIGEST
 
-
-def kernels_done(subject):
-    """The stamp of one subject's compiled kernels, made by compile_kernels; every simulation
-    rule of the subject takes it as an input, so that its jobs start once the kernels are cached."""
-    if subject not in KERNELS:
-        raise ValueError(f"kernels_done: no KERNELS entry for subject {subject!r} (common.smk)")
-    return f"results/kernels/{subject}.json"
+    return SOURCE_DIGEST

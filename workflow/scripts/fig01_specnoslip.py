@@ -8,13 +8,12 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import xarray as xr  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
 
 SPIN_RADIUS = 0.055  # drawn particle radius (table lengths); the particle itself is a point
 
-ds = xr.load_dataset(snakemake.input.specnoslip)
+ds = plot.load_figure_data(snakemake.input.specnoslip)
 plot.use_style()
 aspect = ds.attrs["height"] / ds.attrs["width"]
 fig, axes = plt.subplots(1, 2, figsize=(6.5, 3.25 * aspect + 0.5))

@@ -8,14 +8,13 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
 
 MARGIN = 2.0  # board shown around the orbits (lengths)
 ZOOM_BELOW = 4.0  # an orbit smaller than this (lengths) gets a zoomed inset
 
-ds = xr.load_dataset(snakemake.input.orbits)
+ds = plot.load_figure_data(snakemake.input.orbits)
 paths = [plot.orbit_path(ds.isel(orbit=i)) for i in range(ds.sizes["orbit"])]
 x0 = min(x.min() for x, _ in paths) - MARGIN
 x1 = max(x.max() for x, _ in paths) + MARGIN

@@ -8,13 +8,12 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
 
 SPAN = 4.5  # half-width of the histogram, in standard deviations
 
-ds = xr.load_dataset(snakemake.input.distribution)
+ds = plot.load_figure_data(snakemake.input.distribution)
 x = ds.x_terminal
 # Particles cross the terminal depth in the gaps between the pegs of the terminal row, so the
 # displacements cluster one spacing apart: one bin per bin_gaps gaps, centred on the gaps (other

@@ -8,11 +8,10 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import xarray as xr  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
 
-ds = xr.load_dataset(snakemake.input.pentagons)
+ds = plot.load_figure_data(snakemake.input.pentagons)
 orbit = {str(r): ds.isel(orbit=i) for i, r in enumerate(ds.role.values)}
 period = int(ds.attrs["period"])
 plot.use_style()

@@ -8,7 +8,6 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import xarray as xr  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
 
@@ -16,7 +15,7 @@ MARGIN = 0.25        # floor shown around each orbit (lengths)
 SPIN_RADIUS = 0.05   # drawn particle radius at the middle of each flight
 PERIODIC_TOL = 1e-9  # a drift below this (lengths) is rounding: the orbit is 2-periodic
 
-ds = xr.load_dataset(snakemake.input.bounce)
+ds = plot.load_figure_data(snakemake.input.bounce)
 paths = [plot.orbit_path(ds.isel(orbit=i)) for i in range(ds.sizes["orbit"])]
 top = max(float(y.max()) for _, y in paths) + MARGIN
 windows = [(float(x.min()) - MARGIN, float(x.max()) + MARGIN, -0.12, top) for x, _ in paths]

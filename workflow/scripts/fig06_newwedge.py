@@ -10,11 +10,10 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import xarray as xr  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
 
-ds = xr.load_dataset(snakemake.input.newwedge)
+ds = plot.load_figure_data(snakemake.input.newwedge)
 plot.use_style()
 fig, axes = plt.subplots(1, 2, figsize=(6.5, 2.9), width_ratios=[1.0, 1.5])
 for ax, i in zip(axes, range(ds.sizes["orbit"])):

@@ -9,14 +9,13 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
 
 MARGIN = 0.12  # share of the orbits' extent shown around them
 COLORS = ["#0072B2", "#D55E00", "#009E73", "#CC79A7"]
 
-ds = xr.load_dataset(snakemake.input.orbits)
+ds = plot.load_figure_data(snakemake.input.orbits)
 cases = ds.case.values.astype(str)
 panels = [("path-reversing, 2-periodic", np.flatnonzero(cases == "path-reversing")),
           ("wedge opening down", np.flatnonzero(cases == "path-reversing, wedge opening down"))]

@@ -8,11 +8,10 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import xarray as xr  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
 
-ds = xr.load_dataset(snakemake.input.twodisks)
+ds = plot.load_figure_data(snakemake.input.twodisks)
 orbit = {str(r): ds.isel(orbit=i) for i, r in enumerate(ds.role.values)}
 width, height = ds.attrs["box"]
 plot.use_style()

@@ -11,7 +11,6 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
 from matplotlib.ticker import MaxNLocator  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
@@ -19,7 +18,7 @@ from noslipsim import plot  # noqa: E402
 MARGIN = 0.1  # share of the perturbed orbit's extent shown around it
 LAUNCH_WALL = 0  # q0 is on the left wall (element 0)
 
-ds = xr.load_dataset(snakemake.input.orbits)
+ds = plot.load_figure_data(snakemake.input.orbits)
 n = ds.sizes["orbit"] // 2
 plot.use_style()
 fig, axes = plt.subplots(2, n, figsize=(6.5, 3.9), height_ratios=[1.0, 1.0], squeeze=False)

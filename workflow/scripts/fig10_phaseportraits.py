@@ -7,11 +7,11 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import xarray as xr  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
+from noslipsim.analysis import classify_regular  # noqa: E402
 
-ds = xr.load_dataset(snakemake.input.portraits)
+ds = classify_regular(plot.load_figure_data(snakemake.input.portraits), snakemake.params.threshold)
 lemon, sinai = ds.sel(table="lemon"), ds.sel(table="sinai")
 gamma = float(sinai.gamma)
 

@@ -7,11 +7,10 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import xarray as xr  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
 
-ds = xr.load_dataset(snakemake.input.portraits)
+ds = plot.load_figure_data(snakemake.input.portraits)
 n = ds.sizes["table"]
 
 plot.use_style()

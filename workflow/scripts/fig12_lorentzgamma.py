@@ -7,14 +7,15 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import xarray as xr  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
+from noslipsim.analysis import classify_regular, islands_onsets  # noqa: E402
 
 PAPER_ONSET = 0.3  # the paper: "no signs of invariant regions (closed loops) until gamma > 0.3"
 
-ds = xr.load_dataset(snakemake.input.portraits)
-isl = xr.load_dataset(snakemake.input.islands)
+threshold = snakemake.params.threshold
+ds = classify_regular(plot.load_figure_data(snakemake.input.portraits), threshold)
+isl = islands_onsets(plot.load_figure_data(snakemake.input.islands), threshold, snakemake.params.level)
 n = ds.sizes["gamma"]
 
 plot.use_style()

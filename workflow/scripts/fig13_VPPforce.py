@@ -7,13 +7,13 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import xarray as xr  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
+from noslipsim.analysis import classify_regular  # noqa: E402
 
 ROWS = ("no force", "small force", "strong force")
 
-ds = xr.load_dataset(snakemake.input.portraits)
+ds = classify_regular(plot.load_figure_data(snakemake.input.portraits), snakemake.params.threshold)
 n_force, n_gamma = ds.sizes["force"], ds.sizes["gamma"]
 increasing = list(ds.force.values) == sorted(ds.force.values)
 names = ROWS if n_force == 3 and float(ds.force[0]) == 0 and increasing else ["force"] * n_force

@@ -11,7 +11,6 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
 
@@ -19,8 +18,8 @@ COLORS = ["#0072B2", "#009E73", "#E69F00", "#CC79A7", "#D55E00", "#56B4E9", "#00
 ZOOM = 0.006  # half-width (rad) of the zoom around the transition
 ANCHOR = 1e-2  # the dashed growth lines pass through the distance 1e-2 (past the polynomial transient)
 
-ds = xr.load_dataset(snakemake.input.orbits)
-scan = xr.load_dataset(snakemake.input.scan)
+ds = plot.load_figure_data(snakemake.input.orbits)
+scan = plot.load_figure_data(snakemake.input.scan)
 n = ds.sizes["orbit"] // 2
 phi = ds.attrs["phi"]
 plot.use_style()

@@ -9,13 +9,12 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import xarray as xr  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
 
 LABELS = {"phi": "$\\varphi$ (position of $q_0$)", "theta": "launch angle $\\theta$", "radius": "disk radius $R$"}
 
-grids = {k: xr.load_dataset(snakemake.input[k]) for k in ("noforce", "force", "theta")}
+grids = {k: plot.load_figure_data(snakemake.input[k]) for k in ("noforce", "force", "theta")}
 sketch = snakemake.params.sketch
 plot.use_style()
 fig, axes = plt.subplots(2, 2, figsize=(6.5, 5.6))

@@ -8,13 +8,12 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
 
 VIEW_ELEVATION, VIEW_TURN = 22.0, 30.0  # degrees
 
-ds = xr.load_dataset(snakemake.input.sphere)
+ds = plot.load_figure_data(snakemake.input.sphere)
 x, y, z = plot.sphere_path(ds)
 e1, e2 = ds.e1.values[:2], ds.e2.values[:2]
 color = plot.law_color("no-slip")

@@ -8,13 +8,12 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
 
 from noslipsim import plot  # noqa: E402
 from noslipsim.analysis import arrival_curve  # noqa: E402
 
-arrivals = xr.load_dataset(snakemake.input.arrivals)
-sweep = xr.load_dataset(snakemake.input.sweep)
+arrivals = plot.load_figure_data(snakemake.input.arrivals)
+sweep = plot.load_figure_data(snakemake.input.sweep)
 curves = arrival_curve(arrivals)
 long_run = arrival_curve(sweep)
 T = arrivals.attrs["termination_time"]

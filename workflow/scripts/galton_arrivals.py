@@ -10,7 +10,7 @@ board, run = dict(snakemake.params.board), snakemake.params.run
 termination = board.pop("max_time")
 ds = galton_distribution(run["n_particles"], gamma=run["gammas"],
                          seed=run["seed"], max_time=run["time_factor"] * termination, **board,
-                         scheduler=snakemake.params.scheduler, num_workers=snakemake.threads, progress=True)
+                         scheduler=snakemake.config.get("runtime", {}).get("dask_scheduler"), num_workers=snakemake.threads, progress=True)
 ds.attrs.update(termination_time=termination, time_factor=run["time_factor"])
 write_dataset(ds, snakemake.output.arrivals, config={"galton": {"board": snakemake.params.board, "arrivals": run}},
               history=f"snakemake rule {snakemake.rule} (workflow/scripts/galton_arrivals.py)")

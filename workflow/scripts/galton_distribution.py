@@ -8,6 +8,6 @@ from noslipsim.experiments import galton_distribution  # noqa: E402
 
 board, run = snakemake.params.board, snakemake.params.run
 ds = galton_distribution(run["n_particles"], gamma=run["gamma"], seed=run["seed"], **board,
-                         scheduler=snakemake.params.scheduler, num_workers=snakemake.threads, progress=True)
+                         scheduler=snakemake.config.get("runtime", {}).get("dask_scheduler"), num_workers=snakemake.threads, progress=True)
 write_dataset(ds, snakemake.output.distribution, config={"galton": {"board": board, "distribution": run}},
               history=f"snakemake rule {snakemake.rule} (workflow/scripts/galton_distribution.py)")

@@ -11,7 +11,7 @@ termination = board.pop("max_time")
 board.pop("radius")  # swept
 ds = galton_radius_sweep(run["n_particles"], radii=run["radii"], gamma=run["gamma"], seed=run["seed"],
                          max_time=run["time_factor"] * termination, **board,
-                         scheduler=snakemake.params.scheduler, num_workers=snakemake.threads, progress=True)
+                         scheduler=snakemake.config.get("runtime", {}).get("dask_scheduler"), num_workers=snakemake.threads, progress=True)
 ds.attrs.update(termination_time=termination, time_factor=run["time_factor"], board_radius=snakemake.params.board["radius"])
 write_dataset(ds, snakemake.output.sweep, config={"galton": {"board": snakemake.params.board, "radius_sweep": run}},
               history=f"snakemake rule {snakemake.rule} (workflow/scripts/galton_radius_sweep.py)")

@@ -10,9 +10,9 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 from noslipsim import write_dataset  # noqa: E402
 from noslipsim.experiments import hex_force_portraits  # noqa: E402
 
-run, threshold = snakemake.params.run, snakemake.params.threshold
-ds = hex_force_portraits(**run, threshold=threshold, scheduler=snakemake.params.scheduler,
+run = snakemake.params.run
+ds = hex_force_portraits(**run, scheduler=snakemake.config.get("runtime", {}).get("dask_scheduler"),
                          num_workers=snakemake.threads, progress=True)
 write_dataset(ds, snakemake.output.portraits,
-              config={"portraits": {"hex_force": run, "regular_threshold": threshold}},
+              config={"portraits": {"hex_force": run}},
               history=f"snakemake rule {snakemake.rule} (workflow/scripts/portraits_hex_force.py)")

@@ -6,7 +6,7 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 from noslipsim import write_dataset  # noqa: E402
 from noslipsim.experiments import sinai_islands_sweep  # noqa: E402
 
-run, threshold = snakemake.params.run, snakemake.params.threshold
-ds = sinai_islands_sweep(**run, threshold=threshold, progress=True)
-write_dataset(ds, snakemake.output.islands, config={"portraits": {"islands": run, "regular_threshold": threshold}},
+run = snakemake.params.run
+ds = sinai_islands_sweep(**run, progress=True)
+write_dataset(ds, snakemake.output.islands, config={"portraits": {"islands": run}},
               history=f"snakemake rule {snakemake.rule} (workflow/scripts/portraits_islands.py)")

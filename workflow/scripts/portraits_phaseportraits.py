@@ -6,9 +6,9 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 from noslipsim import write_dataset  # noqa: E402
 from noslipsim.experiments import lemon_sinai_portraits  # noqa: E402
 
-run, threshold = snakemake.params.run, snakemake.params.threshold
-ds = lemon_sinai_portraits(**run, threshold=threshold, scheduler=snakemake.params.scheduler,
+run = snakemake.params.run
+ds = lemon_sinai_portraits(**run, scheduler=snakemake.config.get("runtime", {}).get("dask_scheduler"),
                            num_workers=snakemake.threads, progress=True)
 write_dataset(ds, snakemake.output.portraits,
-              config={"portraits": {"phaseportraits": run, "regular_threshold": threshold}},
+              config={"portraits": {"phaseportraits": run}},
               history=f"snakemake rule {snakemake.rule} (workflow/scripts/portraits_phaseportraits.py)")

@@ -6,9 +6,9 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 from noslipsim import write_dataset  # noqa: E402
 from noslipsim.experiments import sinai_gamma_portraits  # noqa: E402
 
-run, threshold = snakemake.params.run, snakemake.params.threshold
-ds = sinai_gamma_portraits(**run, threshold=threshold, scheduler=snakemake.params.scheduler,
+run = snakemake.params.run
+ds = sinai_gamma_portraits(**run, scheduler=snakemake.config.get("runtime", {}).get("dask_scheduler"),
                            num_workers=snakemake.threads, progress=True)
 write_dataset(ds, snakemake.output.portraits,
-              config={"portraits": {"sinai_gamma": run, "regular_threshold": threshold}},
+              config={"portraits": {"sinai_gamma": run}},
               history=f"snakemake rule {snakemake.rule} (workflow/scripts/portraits_sinai_gamma.py)")

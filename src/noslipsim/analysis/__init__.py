@@ -27,8 +27,9 @@ __all__ += ["arrival_curve", "boundary_coordinate", "birkhoff_coordinates", "vel
 
 # -- regular share of a phase space and the onset of islands --
 from .islands import (
-    finite_time_lyapunov, head_on_onset_gamma, interior_starts, onset_gamma, regular_share, uniform_reduced_states,
+    classify_regular, finite_time_lyapunov, head_on_onset_gamma, interior_starts, islands_onsets, onset_gamma,
+    regular_share, uniform_reduced_states,
 )
 
 __all__ += ["uniform_reduced_states", "interior_starts", "finite_time_lyapunov", "regular_share", "onset_gamma",
-            "head_on_onset_gamma"]
+            "head_on_onset_gamma", "classify_regular", "islands_onsets"]

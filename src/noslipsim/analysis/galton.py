@@ -24,6 +24,7 @@ import math
 import numpy as np
 import xarray as xr
 
+from .._metadata import annotate
 from .._validate import finite_float, positive
 
 __all__ = ["arrival_curve"]
@@ -38,30 +39,6 @@ TAIL_SIGNIFICANCE = 2.0
 #: When no particle arrived, the time grid starts this factor below ``max_time``.
 EMPTY_GRID_DECADES = 3.0
 
-_META = {
-    "time": ("time since the start", "1"),
-    "law": ("collision law", "1"),
-    "gamma": ("mass-distribution constant gamma (NaN for specular)", "1"),
-    "share_not_arrived": ("share of particles not at the terminal depth by this time", "1"),
-    "share_not_arrived_stderr": ("binomial standard error of share_not_arrived", "1"),
-    "n_particles": ("number of particles", "1"),
-    "share_not_arrived_final": ("share of particles not at the terminal depth by max_time", "1"),
-    "arrivals_early": ("arrivals in the earlier tail window [t1, t2)", "1"),
-    "arrivals_late": ("arrivals in the later tail window [t2, t3]", "1"),
-    "tail_ratio": ("ratio q of late to early tail-window arrivals", "1"),
-    "tail_exponent": ("power-law exponent alpha of the arrival tail, S - P ~ t^-alpha", "1"),
-    "trapped_share": ("estimated share of particles that never arrive (plateau of S)", "1"),
-    "trapped_share_stderr": ("standard error of trapped_share (Poisson counts, delta method)", "1"),
-    "slow_share": ("share not arrived by max_time that the tail extrapolation expects to arrive", "1"),
-}
-
-
-def _meta(ds):
-    for name, var in ds.variables.items():
-        if name in _META:
-            var.attrs.setdefault("long_name", _META[name][0])
-            var.attrs.setdefault("units", _META[name][1])
-    return ds
 
 
 def _check_dataset(ds, max_time):
@@ -274,4 +251,4 @@ def arrival_curve(ds, *, times=None, n_times=N_TIMES, max_time=None, tail_span=T
                    "[t1, t2), [t2, t3]; geometric (power-law) tail assumed; NaN unless n1 - n2 > "
                    f"{TAIL_SIGNIFICANCE} sqrt(n1 + n2)"),
     )
-    return _meta(out)
+    return annotate(out)

@@ -61,6 +61,7 @@ from .._validate import count, positive
 from ..elements import Arc, Circle, Segment
 from ..ensemble import simulate_many
 from ..initial import rng_from
+from .._metadata import annotate
 from ..scenes import Scene
 from .lyapunov import lyapunov_run
 from .portraits import birkhoff_states, reduced_states
@@ -353,6 +354,75 @@ def onset_gamma(gammas, counts, n, *, level=VISIBLE_SHARE, n_boot=2000, seed=0):
         low = high = stderr = math.nan
     return {"value": value, "stderr": stderr, "low": float(low), "high": float(high),
             "never_reached": float(1.0 - ok.mean()), "level": level}
+
+
+def classify_regular(ds, threshold=REGULAR_THRESHOLD):
+    """A portrait dataset with its orbits classified: ``regular = 1`` where ``ftle < threshold``.
+
+    The classification is cheap and its threshold a reading, not part of the
+    simulation: datasets store the exponents ``ftle``, and the figure and the
+    numbers that need the flag make it here with their own threshold (so a
+    changed threshold reruns no simulation).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        With a variable ``ftle`` (finite-time exponent per collision; NaN: none).
+    threshold : float
+        Exponent per collision below which an orbit is regular (> 0).
+
+    Returns
+    -------
+    xarray.Dataset
+        A copy with ``regular`` (int8, 0 where ``ftle`` is NaN) and the attribute
+        ``regular_threshold``.
+    """
+    threshold = positive(threshold, "threshold")
+    if "ftle" not in ds:
+        raise ValueError("ds: no variable 'ftle' (a portrait dataset made with lyapunov_collisions)")
+    out = ds.copy()
+    out["regular"] = (ds.ftle < threshold).astype(np.int8)
+    out.attrs["regular_threshold"] = threshold
+    return annotate(out)
+
+
+def islands_onsets(ds, threshold=REGULAR_THRESHOLD, level=VISIBLE_SHARE):
+    """The regular share against gamma and its onset, per radius, from a sweep of exponents.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        :func:`noslipsim.experiments.sinai_islands_sweep`: ``ftle`` along
+        ``(radius, gamma, orbit)`` and the attribute ``seed``.
+    threshold : float
+        Regular threshold (:func:`regular_share`).
+    level : float
+        Visibility level of the onset (:func:`onset_gamma`).
+
+    Returns
+    -------
+    xarray.Dataset
+        A copy with ``share_regular``, ``share_regular_stderr``, ``n_regular``,
+        ``n_valid`` per ``(radius, gamma)`` and ``onset_gamma``,
+        ``onset_gamma_stderr``, ``onset_gamma_low``, ``onset_gamma_high`` per
+        radius; attributes ``regular_threshold`` and ``visible_share``.
+    """
+    gammas = ds.gamma.values
+    share, err, n_valid = regular_share(ds.ftle.values, threshold)
+    k = np.rint(share * n_valid).astype(np.int64)
+    onsets = [onset_gamma(gammas, k[i], n_valid[i], level=level, seed=int(ds.attrs.get("seed", 0)))
+              for i in range(ds.sizes["radius"])]
+    rg = ("radius", "gamma")
+    out = ds.copy()
+    out["share_regular"] = (rg, share)
+    out["share_regular_stderr"] = (rg, err)
+    out["n_regular"] = (rg, k)
+    out["n_valid"] = (rg, n_valid)
+    for key, name in (("value", "onset_gamma"), ("stderr", "onset_gamma_stderr"), ("low", "onset_gamma_low"),
+                      ("high", "onset_gamma_high")):
+        out[name] = ("radius", [o[key] for o in onsets])
+    out.attrs.update(regular_threshold=float(threshold), visible_share=float(level))
+    return annotate(out)
 
 
 def head_on_onset_gamma(radius, distance=1.0):

@@ -53,6 +53,7 @@ import xarray as xr
 
 from .._validate import positive
 from ..elements import Arc, Circle, Line, Segment
+from .._metadata import annotate
 from ..scenes import Scene
 
 __all__ = ["boundary_coordinate", "birkhoff_coordinates", "velocity_portrait", "reduced_portrait",
@@ -63,22 +64,6 @@ TWO_PI = 2.0 * math.pi
 #: A unit vector read back from a record may exceed norm 1 by rounding; beyond this it is an error.
 UNIT_TOL = 1e-9
 
-_META = {
-    "element": ("index of the element hit, in scene order", "1"),
-    "s_boundary": ("arclength along the boundary (chosen elements end to end, scene order)", "1"),
-    "sin_angle": ("Birkhoff p: sine of the exit angle to the inward normal, positive along increasing s", "1"),
-    "w_unit": ("post-collision scaled spin over |(w, v_t, v_n)|", "1"),
-    "vt_unit": ("post-collision tangential velocity over |(w, v_t, v_n)| (t = J n)", "1"),
-    "vn_unit": ("post-collision normal velocity over |(w, v_t, v_n)| (n outward, so <= 0)", "1"),
-}
-
-
-def _meta(ds):
-    for name, var in ds.data_vars.items():
-        if name in _META:
-            var.attrs.setdefault("long_name", _META[name][0])
-            var.attrs.setdefault("units", _META[name][1])
-    return ds
 
 
 # ----------------------------------------------------------------------------- the boundary layout
@@ -182,7 +167,7 @@ def _new(portrait, variables, attrs, title):
     out = xr.Dataset(data, coords=coords)
     keep = {k: v for k, v in portrait.attrs.items() if k in ("law", "gamma", "force", "scene", "seed", "source")}
     out.attrs.update(keep, title=title, **attrs)
-    return _meta(out)
+    return annotate(out)
 
 
 # ----------------------------------------------------------------------------- forward: record -> coordinates

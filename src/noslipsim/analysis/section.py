@@ -27,8 +27,10 @@ import math
 
 import numpy as np
 
+from .._engine.run import run_orbits
+from .._engine.table import kernel_table
 from ..core import layout
-from ..core.loop import orbit_kernel
+from ..core.batch import F_NREC, F_STOP
 from ..scenes import Scene
 from ..simulate import check_limits, check_start, run_one, start_cell
 
@@ -54,7 +56,8 @@ def boundary_frames(scene: Scene, element, s):
     sigma : (N,)
         ``ds/dl``, +1 or -1.
     """
-    kinds, params = scene.kernel_inputs()[:2]
+    table = kernel_table(scene)
+    kinds, params = table.kinds, table.params
     e = np.asarray(element, dtype=np.int64)
     s = np.asarray(s, dtype=float)
     N = len(e)
@@ -128,20 +131,14 @@ def boundary_log(scene: Scene, element, q, v, w, n):
     The start is treated as just reflected by ``element`` (its ``t = 0`` root
     is deflated by the kernel).  Returns ``(log, stop_reason)``.
     """
-    kinds, params, copies, A, B, lattice, jstart, jpts = scene.kernel_inputs()
     cell, _, _ = start_cell(scene, np.asarray(q, float))
-    if lattice and cell.any():
+    if scene.lattice is not None and cell.any():
         raise ValueError(f"position: the boundary point {list(q)} of element {element} lies outside cell 0 "
                          "of the lattice; choose an element copy inside cell 0")
-    mask = np.zeros(len(kinds), dtype=np.bool_)
-    c, s = scene.noslip_coefficients
-    ax, ay = scene.force
-    rec = np.zeros((n, layout.N_LOG))
-    kernel = orbit_kernel(*scene.kernel_variant(layout.RECORD_LOG))
-    _, stop, _, n_rec, *_ = kernel(kinds, params, copies, A, B, lattice, jstart, jpts, scene.law_code, c, s,
-                                   ax, ay, float(q[0]), float(q[1]), float(v[0]), float(v[1]), float(w), n,
-                                   math.inf, -math.inf, scene.scale, layout.RECORD_LOG, rec, mask, int(element))
-    return rec[:n_rec], layout.STOP_REASONS[stop]
+    rec = np.zeros((1, n, layout.N_LOG))
+    final = run_orbits(kernel_table(scene), [[float(q[0]), float(q[1]), float(v[0]), float(v[1]), float(w)]],
+                       max_collisions=n, start_elements=[int(element)], mode=layout.RECORD_LOG, rec=rec)[0]
+    return rec[0, :int(final[F_NREC])], layout.STOP_REASONS[int(final[F_STOP])]
 
 
 # ----------------------------------------------------------------------------- conversions

@@ -49,6 +49,7 @@ import xarray as xr
 from .. import theory
 from .._validate import finite_float
 from ..core import layout
+from .._metadata import annotate
 from ..ensemble import STOP_FLAGS, simulate_many
 from .monodromy import KINDS, UNIT_TOL, classify
 from .orbits import two_disk_orbit
@@ -69,21 +70,6 @@ _LOG_COLUMNS = {
     "element": layout.LOG_ELEMENT, "s": layout.LOG_S, "corner": layout.LOG_CORNER,
 }
 
-_META = {
-    "radius": ("disk radius R (centres 2 apart)", "1"),
-    "curvature": ("disk curvature kappa = 1/R", "1"),
-    "phi": ("angle of q0 above the horizontal seen from the left centre (tangent wedge half-angle)", "rad"),
-    "theta": ("launch angle above the chord q0 q1", "rad"),
-    "n_collisions": ("collisions survived by the perturbed orbit before it missed both disks "
-                     "(max_collisions: survived the run)", "1"),
-    "stop_reason": ("why the perturbed orbit ended", "1"),
-    "survived": ("1 if the perturbed orbit reached max_collisions, else 0", "1"),
-    "linear_kind": ("linear class of the unperturbed 2-periodic orbit (elliptic, hyperbolic, parabolic)", "1"),
-    "eigen_sum": ("lambda + 1/lambda of the 2-bounce monodromy (trace minus the unit eigenvalue)", "1"),
-    "chord_length": ("distance d = |q0 q1| = 2 - 2 R cos(phi)", "1"),
-    "radius_threshold": ("force-free ellipticity threshold R*(phi): elliptic iff R > R* (closed form, "
-                         "equation ellipticity; a reference only under gravity)", "1"),
-}
 
 
 # ----------------------------------------------------------------------------- input checks
@@ -255,10 +241,7 @@ def _finish(ds):
     decided = (kinds == "elliptic") | (kinds == "hyperbolic")
     ds.attrs["agreement_share"] = agreement_share(ds)
     ds.attrs["n_decided"] = int(decided.sum())
-    for name, var in ds.variables.items():
-        if name in _META:
-            var.attrs.setdefault("long_name", _META[name][0])
-            var.attrs.setdefault("units", _META[name][1])
+    annotate(ds)
     ds["linear_kind"].attrs["flag_meanings"] = " ".join(KINDS)
     return ds
 

@@ -25,10 +25,10 @@ collision to the next is what limits the speed):
   through ``h``; no-slip: :func:`laws.collide` with ``n = -h/|h|``.
 
 Two walks.  One disk inside its cell (the Sinai torus, the Lorentz gas up to
-``r`` = half the cell's width: :attr:`noslipsim.Scene.one_disk_per_cell`):
+``r`` = half the cell's width: :attr:`KernelTable.one_disk_per_cell`):
 :func:`disk_walk` tests that disk in each cell and the first hit is the
 earliest.  Several disks per cell, or disks reaching into neighbouring cells
-(:attr:`noslipsim.Scene.disk_lattice`): :func:`disks_walk` tests every copy
+(:attr:`KernelTable.disk_lattice`): :func:`disks_walk` tests every copy
 that reaches a cell and takes the earliest hit once it comes before the
 cell's exit (a hit on a copy from a neighbouring cell may lie beyond it; the
 hit point is then re-based onto the cell that holds it).
@@ -47,7 +47,7 @@ import math
 from .energy import SETTLE_EVERY, settle, state_energy
 from .exact import cross_dd, fma, lattice_shift_dd, offset_dd
 from .geometry import lattice_coordinates, lattice_shift, nearest_cell
-from .jit import jit
+from .jit import SOURCE_STAMP, jit
 from .laws import collide
 from .layout import (
     CIRCLE, NOSLIP, RECORD_LOG, RECORD_NONE, RECORD_PORTRAIT, SPECULAR, STOP_ESCAPE, STOP_LEVEL,
@@ -56,6 +56,7 @@ from .layout import (
 from .records import record
 from .roots import linear_exit
 from .tolerances import MAX_CELLS_PER_FLIGHT
+from .variant import variant_code
 
 INF = math.inf
 
@@ -339,7 +340,7 @@ def disk_lattice_kernel(spin=None, mode=None):
 
     ``spin`` and ``mode`` are compile-time flags as in :func:`loop.orbit_kernel`
     (``None``: read the law or the record mode from the arguments).  Only
-    for scenes with :attr:`noslipsim.Scene.disk_lattice` (disjoint disks);
+    for scenes with :attr:`KernelTable.disk_lattice` (disjoint disks);
     the force, ``kinds``, ``lattice`` and junction arguments are ignored.  A
     scene of one copy with no shift (one disk inside its cell) runs a loop
     compiled around :func:`disk_walk`, any other one around :func:`disks_walk`
@@ -375,6 +376,7 @@ def _disk_loop(spin, mode, one):
     MODE_RT = mode is None
     MODE = RECORD_LOG if mode is None else int(mode)
     ONE = bool(one)
+    VARIANT = variant_code((False, spin, True, mode, True, False))  # reported with every result
 
     @jit
     def disk_loop(params, copies, A, B, law, c, s, x, y, vx, vy, w, max_collisions, max_time, stop_below, mode,
@@ -512,6 +514,6 @@ def _disk_loop(spin, mode, one):
         k1, k2 = nearest_cell(B, x, y)
         m1 += k1
         m2 += k2
-        return n, stop, 0, n_rec, t, x + ox, y + oy, vx, vy, w, m1, m2
+        return n, stop, 0, n_rec, t, x + ox, y + oy, vx, vy, w, m1, m2, (VARIANT << 32) | SOURCE_STAMP
 
     return disk_loop

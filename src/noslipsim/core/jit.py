@@ -1,22 +1,47 @@
-"""The one place that decides how every kernel is compiled.
+"""The one place that decides how every kernel is compiled, named and cached.
 
-All kernels are compiled with ``cache=True`` (compile once per machine),
-``nogil=True`` (so dask threads run kernels in parallel) and *without*
-fastmath: the event solver relies on IEEE semantics (signed zeros, exact
-comparisons, no reassociation of the quadratic formula).
+Compile options.  All kernels are compiled with ``cache=True`` (compile once
+per machine), ``nogil=True`` (so threads run kernels in parallel) and
+*without* fastmath: the event solver relies on IEEE semantics (signed zeros,
+exact comparisons, no reassociation of the quadratic formula).  They run
+without numba's reference-counting runtime (``_nrt=False``): they allocate
+nothing and return no arrays, so an array view (``params[e]``) needs no owner,
+and every view would otherwise cost an atomic increment and decrement
+(2 to 5 times faster on plain scenes, benchmarks/RESULTS.md).  A kernel that
+allocates fails to compile rather than running unsafely.
+``NOSLIPSIM_NUMBA_NRT=1`` compiles with the runtime, uncached (so the on-disk
+cache never mixes the two), for ``benchmarks/bench_runtime.py``.
 
-The kernels run without numba's reference-counting runtime (``_nrt=False``):
-they allocate nothing and return no arrays, so an array view (``params[e]``)
-needs no owner, and every view would otherwise cost an atomic increment and
-decrement.  Measured on the event loop: 2 to 5 times faster on plain scenes
-(benchmarks/RESULTS.md).  A kernel that allocates fails to compile rather than
-running unsafely.  ``NOSLIPSIM_NUMBA_NRT=1`` compiles with the runtime, uncached
-(so the on-disk cache never mixes the two), for ``benchmarks/bench_runtime.py``.
+Why the cache needs three things numba does not do (docs/algorithm.md, "The
+compile cache"):
+
+1. **A unique symbol per variant.**  numba names a compiled function's
+   machine-code symbol by its module, its ``__qualname__``, a counter that
+   runs per process and its argument types.  Every variant of the event loop
+   is a closure of one factory (:func:`loop.orbit_kernel`), so all share one
+   ``__qualname__``; two variants compiled first in two processes can then get
+   the same counter value, hence the same symbol, and a process that loads both
+   from the cache links the second one's callers to the first one's code
+   (numba issue #10486): a run with gravity ran without it.  :func:`_compile`
+   gives each closure a ``__qualname__`` of its own, derived from the values it
+   captures (its flags, the kernels it calls), so equal symbols mean equal code.
+2. **Entries keyed on every source they contain.**  A cached kernel holds the
+   machine code of the kernels it calls, but numba checks only its own file's
+   time stamp: an edit of ``events.py`` left ``loop.py``'s cached kernels
+   stale.  Each index here is stamped with :data:`SOURCE_DIGEST`, the hash of
+   every ``core`` source, so any change empties every index.
+3. **Atomic index writes** (:func:`_lock_cache_writes`).
+
+And a guard that trusts none of this: every orbit kernel returns the variant
+it was compiled for, with :data:`SOURCE_STAMP` (:mod:`noslipsim.core.variant`),
+and the caller refuses a result from any other.
 """
 import hashlib
 import os
+from pathlib import Path
 
 from numba import njit, prange  # noqa: F401  (prange re-exported for kernels)
+from numba.core.caching import FunctionCache
 
 try:
     import fcntl
@@ -30,26 +55,64 @@ _OPTIONS = dict(cache=True, nogil=True, fastmath=False, error_model="numpy", _nr
 if os.environ.get("NOSLIPSIM_NUMBA_NRT") == "1":
     _OPTIONS.update(cache=False, _nrt=True)
 
+CORE = Path(__file__).parent
 
-def _stable_uuid(func):
-    """A name for the dispatcher of ``func`` that is the same in every process.
 
-    numba keys the on-disk cache of a closure on the pickled contents of its
-    cells; a cell holding another kernel pickles that kernel's dispatcher,
-    whose identity is a random UUID drawn once per process.  A kernel built
-    around another one (the batch loops around an orbit variant) then missed
-    the cache in every new process and wrote a new entry each time.  Naming
-    each dispatcher by its function and the values its closure captures makes
-    the pickle, hence the cache key, reproducible.
+def source_digest(folder=CORE):
+    """SHA-256 of every ``*.py`` file of ``folder`` (names and contents, in name order)."""
+    h = hashlib.sha256()
+    for path in sorted(folder.glob("*.py")):
+        h.update(path.name.encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
+
+
+#: Hash of the compiled core's sources: the cache stamp of every kernel.
+SOURCE_DIGEST = source_digest()
+#: Its first 32 bits, compiled into every orbit kernel and reported with its variant.
+SOURCE_STAMP = int(SOURCE_DIGEST[:8], 16)
+
+
+class CoreCache(FunctionCache):
+    """numba's function cache, valid only for the exact core sources it was compiled from.
+
+    numba stamps an index with its own source file's modification time and
+    size; a different stamp reads as an empty index, and the next save
+    replaces it.  Adding :data:`SOURCE_DIGEST` to that stamp makes a change
+    anywhere in ``core`` do the same for every kernel.
     """
-    cells = func.__closure__ or ()
-    captured = []
-    for cell in cells:
+
+    def __init__(self, py_func):
+        super().__init__(py_func)
+        self._cache_file._source_stamp = (self._cache_file._source_stamp, SOURCE_DIGEST)
+
+
+def _captured(func):
+    """What a closure captures, as stable text: another kernel by its stable name, a value by its repr."""
+    out = []
+    for cell in func.__closure__ or ():
         value = cell.cell_contents
-        uuid = getattr(value, "_uuid", None)  # another kernel: its own stable name
-        captured.append(uuid if isinstance(uuid, str) else repr(value))
-    key = "|".join([func.__module__, func.__qualname__, *captured])
-    return "noslipsim-" + hashlib.sha256(key.encode()).hexdigest()
+        uuid = getattr(value, "_uuid", None)
+        out.append(uuid if isinstance(uuid, str) else repr(value))
+    return out
+
+
+def _variant_tag(func):
+    """A short hash of a closure's factory and of what it captures: the same in every process."""
+    key = "|".join([func.__module__, func.__qualname__, *_captured(func)])
+    return hashlib.sha256(key.encode()).hexdigest()[:20]
+
+
+def _name_variant(func):
+    """Give a closure a ``__qualname__`` of its own, so that its machine-code symbol names this variant only.
+
+    ``orbit_kernel.<locals>.run_orbit`` becomes ``orbit_kernel.<locals>.run_orbit_v<tag>``;
+    numba derives the symbol, the cache file name and the index key from it.
+    A function defined at module level is unique by its module and name already.
+    """
+    if func.__closure__:
+        func.__qualname__ = f"{func.__qualname__}_v{_variant_tag(func)}"
+        func.__name__ = func.__qualname__.rsplit(".", 1)[-1]
 
 
 def _lock_cache_writes(dispatcher):
@@ -59,8 +122,7 @@ def _lock_cache_writes(dispatcher):
     file number, writing the index, then the data file, with no lock.  Two
     processes compiling two variants of one kernel at once (two Snakemake
     jobs, two dask workers) can both pick the same number: the index then
-    maps one variant's key to the other variant's machine code, and every
-    later process loads the wrong kernel without a word.  An exclusive
+    maps one variant's key to the other variant's machine code.  An exclusive
     ``flock`` on a file beside the index makes the read-modify-write atomic.
     Loads need no lock: numba replaces the index and data files atomically,
     and an index entry whose data is not written yet reads as a miss.
@@ -84,9 +146,15 @@ def _lock_cache_writes(dispatcher):
 
 
 def _compile(func, options):
+    _name_variant(func)
     dispatcher = njit(**options)(func)
-    dispatcher._set_uuid(_stable_uuid(func))
-    _lock_cache_writes(dispatcher)
+    # the dispatcher's identity, pickled into the cache key of a closure that calls it (numba keys a
+    # closure on its pickled cells; the default identity is a random UUID drawn once per process)
+    dispatcher._set_uuid("noslipsim-" + hashlib.sha256(
+        f"{func.__module__}|{func.__qualname__}".encode()).hexdigest())
+    if options.get("cache"):
+        dispatcher._cache = CoreCache(dispatcher.py_func)
+        _lock_cache_writes(dispatcher)
     return dispatcher
 
 

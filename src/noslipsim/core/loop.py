@@ -27,7 +27,7 @@ from .disks import disk_lattice_kernel
 from .events import advance, exact_line_hit, hit_in_cell, leaves_through_contact, slides_off
 from .geometry import copy_shift, lattice_shift, nearest_cell, place_on_element
 from .energy import SETTLE_EVERY, settle, state_energy
-from .jit import jit
+from .jit import SOURCE_STAMP, jit
 from .laws import collide
 from .layout import (
     LONG_WALL, NOSLIP, RECORD_LOG, RECORD_NONE, SPECULAR, STOP_CORNER, STOP_ESCAPE, STOP_GRAZING, STOP_LEVEL,
@@ -36,6 +36,7 @@ from .layout import (
 from .records import record
 from .roots import quadratic_exit
 from .tolerances import CONTACT_TOL, EXTENT_TOL, JUNCTION_GATE, MAX_CELLS_PER_FLIGHT, MAX_CORNER_BOUNCES
+from .variant import variant_code
 
 INF = math.inf
 
@@ -62,11 +63,6 @@ def _contact(kinds, params, copies, A, lattice, x, y, vx, vy, ax, ay, cur_e, cur
         if leaves_through_contact(kinds[e], params[e], x - sx, y - sy, vx, vy, ax, ay, tol):
             return e, o1, o2
     return -1, 0, 0
-
-
-#: Kernel variants are keyed by ``(force, spin, lattice, mode, disks)``; ``None`` in a
-#: slot means "read from the arguments at run time" (the general path).
-GENERAL = (None, None, None, None)
 
 
 def kernel_flags(has_force, noslip, lattice, mode, disks=False, walls=False):
@@ -102,6 +98,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
     """
     if disks:
         return disk_lattice_kernel(spin, mode)
+    VARIANT = variant_code((force, spin, lattice, mode, disks, walls))  # reported with every result
     FORCE_RT = force is None
     FORCE = bool(force)
     SPIN_RT = spin is None
@@ -159,9 +156,10 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
 
         Returns
         -------
-        n, stop, n_corner, n_rec, t, x, y, vx, vy, w, m1, m2
-            Collision count, stop code, corner collisions, records written, and the
-            final state with unfolded position and cell indices.
+        n, stop, n_corner, n_rec, t, x, y, vx, vy, w, m1, m2, variant
+            Collision count, stop code, corner collisions, records written, the
+            final state with unfolded position and cell indices, and the variant
+            this code was compiled for (:func:`variant.report`).
         """
         has_force = (ax != 0.0 or ay != 0.0) if FORCE_RT else FORCE
         law = law if SPIN_RT else (NOSLIP if SPIN else SPECULAR)
@@ -299,7 +297,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
             k1, k2 = nearest_cell(B, x, y)
             m1 += k1
             m2 += k2
-        return n, stop, n_corner, n_rec, t, x + ox, y + oy, vx, vy, w, m1, m2
+        return n, stop, n_corner, n_rec, t, x + ox, y + oy, vx, vy, w, m1, m2, (VARIANT << 32) | SOURCE_STAMP
 
     return run_orbit
 

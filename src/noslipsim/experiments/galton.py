@@ -10,7 +10,7 @@ from .. import initial, tables
 from .._validate import count
 from ..core import layout
 from ..ensemble import simulate_many
-from ..metadata import annotate
+from .._metadata import annotate
 from .orbit_sets import orbit_set
 
 
@@ -114,29 +114,17 @@ def galton_distribution(n_particles=100_000, *, laws=("specular", "no-slip"), ga
                            scheduler=scheduler, progress=progress, num_workers=num_workers)
         arrived = ds.stop_reason.values == layout.STOP_LEVEL
         out.append(xr.Dataset({
-            "x_terminal": ("particle", np.where(arrived, ds.x_final.values - start[0], np.nan),
-                           {"long_name": "horizontal displacement at the terminal depth", "units": "1"}),
-            "t_terminal": ("particle", np.where(arrived, ds.t_final.values, np.nan),
-                           {"long_name": "time of arrival at the terminal depth", "units": "1"}),
-            "arrived": ("particle", arrived.astype(np.int8),
-                        {"long_name": "1 if the particle reached the terminal depth by max_time", "units": "1"}),
-            "x_end": ("particle", ds.x_final.values - start[0],
-                      {"long_name": "horizontal displacement where the orbit ended (terminal depth or max_time)",
-                       "units": "1"}),
-            "y_end": ("particle", ds.y_final.values - start[1],
-                      {"long_name": "vertical displacement where the orbit ended (terminal depth or max_time)",
-                       "units": "1"}),
+            "x_terminal": ("particle", np.where(arrived, ds.x_final.values - start[0], np.nan)),
+            "t_terminal": ("particle", np.where(arrived, ds.t_final.values, np.nan)),
+            "arrived": ("particle", arrived.astype(np.int8)),
+            "x_end": ("particle", ds.x_final.values - start[0]),
+            "y_end": ("particle", ds.y_final.values - start[1]),
             "n_collisions": ("particle", ds.n_collisions.values),
             "stop_reason": ("particle", ds.stop_reason.values, ds.stop_reason.attrs),
         }))
     res = xr.concat(out, dim=xr.DataArray([law for law, _ in cases], dims="law", name="law"))
-    res = res.assign_coords(gamma=("law", [g for _, g in cases],
-                                   {"long_name": "mass-distribution constant gamma (NaN: specular, not used)",
-                                    "units": "1"}))
-    res["law"].attrs.update(long_name="collision law", units="1")
+    res = res.assign_coords(gamma=("law", [g for _, g in cases]))
     res["share_not_arrived"] = 1.0 - res.arrived.mean("particle")
-    res["share_not_arrived"].attrs = {"long_name": "share of particles not at the terminal depth by max_time",
-                                      "units": "1"}
     res.attrs.update(title="Galton board terminal distribution", spacing=spacing, radius=radius,
                      gravity=gravity, rows=rows, terminal_depth=depth, max_time=max_time,
                      start=list(start), seed=seed, n_particles=n_particles, max_collisions=max_collisions)
@@ -168,11 +156,9 @@ def galton_radius_sweep(n_particles=2000, *, radii=(0.85, 0.9, 0.95), laws=("spe
     if not radii or np.any(np.diff(radii) <= 0):
         raise ValueError(f"radii: expected increasing peg radii, got {radii}")
     parts = [galton_distribution(n_particles, laws=laws, gamma=gamma, radius=r, **kwargs) for r in radii]
-    res = xr.concat(parts, dim=xr.DataArray(radii, dims="radius", name="radius",
-                                            attrs={"long_name": "peg radius", "units": "1"}),
-                    combine_attrs="drop_conflicts")
+    res = xr.concat(parts, dim=xr.DataArray(radii, dims="radius", name="radius"), combine_attrs="drop_conflicts")
     res.attrs["title"] = "Galton board terminal distribution against peg radius"
-    return res
+    return annotate(res)
 
 
 def galton_orbits(gammas=(0.0, 1 / math.sqrt(2), 3.0), *, velocity=(0.6, 0.8), spin=0.0, spacing=2.0,

@@ -8,7 +8,7 @@ import xarray as xr
 
 from .. import initial
 from ..ensemble import simulate_many
-from ..metadata import annotate
+from .._metadata import annotate
 from ..scenes import Scene
 from ..simulate import simulate
 
@@ -64,20 +64,17 @@ def orbit_set(scenes, positions, velocities, spins=None, *, max_collisions=1000,
     for k in ("t_final", "x_final", "y_final", "vx_final", "vy_final", "spin_final", "n_collisions"):
         data[k] = ("orbit", np.array([o[k].values for o in orbits]))
     for j, k in enumerate(("x_start", "y_start")):
-        data[k] = ("orbit", pos[:, j], {"long_name": f"{k[0]} position at the start", "units": "1"})
+        data[k] = ("orbit", pos[:, j])
     for j, k in enumerate(("vx_start", "vy_start")):
-        data[k] = ("orbit", vel[:, j], {"long_name": f"{k[:2]} velocity at the start", "units": "1"})
-    data["spin_start"] = ("orbit", w, {"long_name": "scaled spin at the start (CCW positive)", "units": "1"})
-    data["stop_reason"] = ("orbit", np.array([o.attrs["stop_reason"] for o in orbits], dtype=object),
-                           {"long_name": "why the orbit ended", "units": "1"})
-    data["scene"] = ("orbit", np.array([sc.to_json() for sc in scenes], dtype=object),
-                     {"long_name": "the orbit's scene as JSON (docs/scenes.md)", "units": "1"})
+        data[k] = ("orbit", vel[:, j])
+    data["spin_start"] = ("orbit", w)
+    data["stop_reason"] = ("orbit", np.array([o.attrs["stop_reason"] for o in orbits], dtype=object))
+    data["scene"] = ("orbit", np.array([sc.to_json() for sc in scenes], dtype=object))
     ds = xr.Dataset(data, coords={
         "orbit": np.arange(n),
         "collision": np.arange(length),
-        "law": ("orbit", [sc.law for sc in scenes], {"long_name": "collision law", "units": "1"}),
-        "gamma": ("orbit", [sc.gamma if sc.law == "no-slip" else math.nan for sc in scenes],
-                  {"long_name": "mass-distribution constant gamma (NaN: specular, not used)", "units": "1"}),
+        "law": ("orbit", [sc.law for sc in scenes]),
+        "gamma": ("orbit", [sc.gamma if sc.law == "no-slip" else math.nan for sc in scenes]),
     })
     ds.attrs.update(title="orbits", max_collisions=max_collisions, max_time=float(max_time),
                     stop_below=math.nan if stop_below is None else float(stop_below))

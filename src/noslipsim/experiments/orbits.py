@@ -12,6 +12,7 @@ import numpy as np
 import xarray as xr
 
 from .. import tables
+from .._metadata import annotate
 from .._validate import count, positive
 from ..analysis import find_periodic_orbit, monodromy, two_disk_orbit, wedge_orbit
 from ..sphere3d import simulate_sphere
@@ -39,8 +40,7 @@ def _angle_between(u, v):
 
 
 def _label_orbits(ds, roles):
-    ds = ds.assign_coords(role=("orbit", list(roles), {"long_name": "what the orbit shows", "units": "1"}))
-    return ds
+    return ds.assign_coords(role=("orbit", list(roles)))
 
 
 def specular_noslip_orbits(*, width=2.0, height=1.0, disk=(1.2, 0.5, 0.3), start=(0.1, 0.5), angle=12.5,
@@ -105,18 +105,14 @@ def specular_noslip_orbits(*, width=2.0, height=1.0, disk=(1.2, 0.5, 0.3), start
         first.append(k)
         vertical.append(min(_angle_between(v, (0.0, 1.0)), _angle_between(v, (0.0, -1.0))))
         corner.append(_angle_between(v, to_corner))
-    ds["scatterer_collision"] = ("orbit", np.array(first), {
-        "long_name": "index of the first collision with the scatterer (-1: none)", "units": "1"})
-    ds["exit_from_vertical"] = ("orbit", np.array(vertical), {
-        "long_name": "angle of the velocity leaving the scatterer from the vertical", "units": "degree"})
-    ds["exit_to_corner"] = ("orbit", np.array(corner), {
-        "long_name": "angle between the velocity leaving the scatterer and the direction of the upper left "
-                     "corner", "units": "degree"})
+    ds["scatterer_collision"] = ("orbit", np.array(first))
+    ds["exit_from_vertical"] = ("orbit", np.array(vertical))      # degrees
+    ds["exit_to_corner"] = ("orbit", np.array(corner))
     ds = _label_orbits(ds, ["specular", "no-slip"])
     ds.attrs.update(title="specular and no-slip orbits from one start (rectangle with a scatterer)",
                     width=width, height=height, disk=list(disk), start=list(start), angle=angle, spin=spin,
                     gamma=gamma)
-    return ds
+    return annotate(ds)
 
 
 def pentagon_orbits(*, regular_start=(0.1, 0.05), regular_angle=20.0, irregular_vertices=(
@@ -224,19 +220,13 @@ def pentagon_orbits(*, regular_start=(0.1, 0.05), regular_angle=20.0, irregular_
     width = float(np.max(np.min(np.hypot(*(q[:, None, :] - p[None, :, :]).transpose(2, 0, 1)), axis=1)))
     m = found.monodromy
     pair = m.eigenvalues[np.argmax(np.abs(m.eigenvalues.imag))]
-    ds["periodic_residual"] = ((), found.residual, {
-        "long_name": "scaled residual of the periodic orbit (find_periodic_orbit)", "units": "1"})
-    ds["periodic_iterations"] = ((), found.iterations, {"long_name": "Newton steps of the finder", "units": "1"})
-    ds["periodic_kind"] = ((), m.kind, {"long_name": "linear class of the periodic orbit's monodromy", "units": "1"})
-    ds["eigenvalue_real"] = ("eigenvalue", m.eigenvalues.real, {
-        "long_name": "real part of the monodromy's eigenvalues", "units": "1"})
-    ds["eigenvalue_imag"] = ("eigenvalue", m.eigenvalues.imag, {
-        "long_name": "imaginary part of the monodromy's eigenvalues", "units": "1"})
-    ds["rotation_angle"] = ((), abs(float(np.angle(pair))), {
-        "long_name": "argument of the monodromy's complex eigenvalue pair", "units": "rad"})
-    ds["corridor_width"] = ((), width, {
-        "long_name": "largest distance of a corridor-orbit collision from the periodic orbit's collision points",
-        "units": "1"})
+    ds["periodic_residual"] = ((), found.residual)
+    ds["periodic_iterations"] = ((), found.iterations)
+    ds["periodic_kind"] = ((), m.kind)
+    ds["eigenvalue_real"] = ("eigenvalue", m.eigenvalues.real)    # by decreasing modulus (monodromy)
+    ds["eigenvalue_imag"] = ("eigenvalue", m.eigenvalues.imag)
+    ds["rotation_angle"] = ((), abs(float(np.angle(pair))))
+    ds["corridor_width"] = ((), width)
     ds.attrs.update(title="pentagon orbits: generic specular, no-slip corridor near a periodic point",
                     irregular_vertices=json.dumps(vertices.tolist()), regular_start=list(regular_start),
                     regular_angle=regular_angle, irregular_start=list(irregular_start),
@@ -244,7 +234,7 @@ def pentagon_orbits(*, regular_start=(0.1, 0.05), regular_angle=20.0, irregular_
                     guess_velocity=list(guess_velocity), guess_spin=guess_spin, period=period, gamma=gamma,
                     perturbation=perturbation, tol=tol, periodic_position=list(found.position),
                     periodic_velocity=list(found.velocity), periodic_spin=found.spin)
-    return ds
+    return annotate(ds)
 
 
 def bounce_orbits(cases=({"vx": 0.5, "u": 1.0, "spin_ratio": 1.0}, {"vx": 0.5, "u": 1.0, "spin_ratio": 0.7},
@@ -316,16 +306,13 @@ def bounce_orbits(cases=({"vx": 0.5, "u": 1.0, "spin_ratio": 1.0}, {"vx": 0.5, "
     x = ds.x.values
     steps = x[:, 2:] - x[:, :-2]
     drift = np.nanmean(steps, axis=1)
-    ds["spin_ratio"] = ("orbit", np.array(ratios), {"long_name": "gamma w / v_x at the start", "units": "1"})
-    ds["drift"] = ("orbit", drift, {"long_name": "mean displacement of the bounce point per two bounces",
-                                    "units": "1"})
-    ds["drift_spread"] = ("orbit", np.nanmax(np.abs(steps - drift[:, None]), axis=1), {
-        "long_name": "largest deviation of one two-bounce displacement from the mean", "units": "1"})
+    ds["spin_ratio"] = ("orbit", np.array(ratios))
+    ds["drift"] = ("orbit", drift)
+    ds["drift_spread"] = ("orbit", np.nanmax(np.abs(steps - drift[:, None]), axis=1))
     flights = np.c_[ds.vx_start.values, ds.vx.values[:, :1]]
-    ds["back_and_forth"] = ("orbit", (flights[:, 0] * flights[:, 1] < 0).astype(np.int8), {
-        "long_name": "1 if consecutive flights move in opposite horizontal directions", "units": "1"})
+    ds["back_and_forth"] = ("orbit", (flights[:, 0] * flights[:, 1] < 0).astype(np.int8))
     ds.attrs.update(title="no-slip bouncing ball on a floor", gamma=gamma, gravity=g, n_bounces=n_bounces)
-    return ds
+    return annotate(ds)
 
 
 def newwedge_orbits(*, phi=0.5, theta=0.9, ell=1.5, disk_radius=0.6, disk_phi=0.7, disk_theta=0.6,
@@ -380,22 +367,16 @@ def newwedge_orbits(*, phi=0.5, theta=0.9, ell=1.5, disk_radius=0.6, disk_phi=0.
     R, c, s = float(disk_radius), math.cos(disk_phi), math.sin(disk_phi)
     q0 = np.array([[-ell * math.sin(phi), ell * math.cos(phi)], [-1.0 + R * c, R * s]])
     vertex = np.array([[0.0, 0.0], [0.0, R * s - (1.0 - R * c) * c / s]])
-    geometry = {
-        "q0_x": (q0[:, 0], "x of the launch point q0"), "q0_y": (q0[:, 1], "y of the launch point q0"),
-        "q1_x": (-q0[:, 0], "x of the far point q1"), "q1_y": (q0[:, 1], "y of the far point q1"),
-        "vertex_x": (vertex[:, 0], "x of the (tangential) wedge's vertex"),
-        "vertex_y": (vertex[:, 1], "y of the (tangential) wedge's vertex"),
-    }
-    for name, (values, long_name) in geometry.items():
-        ds[name] = ("orbit", values, {"long_name": long_name, "units": "1"})
-    ds["phi"] = ("orbit", np.array([phi, disk_phi], float), {
-        "long_name": "half-angle of the (tangential) wedge, wall to bisector", "units": "rad"})
-    ds["theta"] = ("orbit", np.array([theta, disk_theta], float), {
-        "long_name": "launch angle at q0 above the chord q0 q1", "units": "rad"})
+    geometry = {"q0_x": q0[:, 0], "q0_y": q0[:, 1], "q1_x": -q0[:, 0], "q1_y": q0[:, 1],
+                "vertex_x": vertex[:, 0], "vertex_y": vertex[:, 1]}
+    for name, values in geometry.items():
+        ds[name] = ("orbit", values)
+    ds["phi"] = ("orbit", np.array([phi, disk_phi], float))
+    ds["theta"] = ("orbit", np.array([theta, disk_theta], float))
     ds = _label_orbits(ds, ["wedge", "tangential wedge"])
     ds.attrs.update(title="path-reversing 2-periodic orbits of a wedge and of a tangential wedge", gamma=gamma,
                     gravity=gravity, ell=ell, disk_radius=disk_radius)
-    return ds
+    return annotate(ds)
 
 
 def two_disk_box_orbits(*, radius=0.7, phi=0.6, gamma=1 / math.sqrt(2), box=(5.0, 3.0), perturbation=0.1,
@@ -458,19 +439,15 @@ def two_disk_box_orbits(*, radius=0.7, phi=0.6, gamma=1 / math.sqrt(2), box=(5.0
     ds = ds.assign_coords(orbit=np.arange(2))
     ds = _label_orbits(ds, ["specular", "no-slip"])
     walls = np.where(np.isfinite(ds.element.values), ds.element.values < 4, False)
-    ds["box_collisions"] = ("orbit", walls.sum(axis=1), {
-        "long_name": "collisions with the box walls", "units": "1"})
-    ds["kind"] = ((), m.kind, {"long_name": "linear class of the periodic orbit's 2-bounce monodromy",
-                               "units": "1"})
-    ds["eigen_sum"] = ((), m.eigen_sum, {
-        "long_name": "lambda + 1/lambda of the periodic orbit's monodromy (measured)", "units": "1"})
-    ds["eigen_sum_theory"] = ((), float(two_disk_eigen_sum(1.0 / radius, d, phi, gamma)), {
-        "long_name": "lambda + 1/lambda from the closed form (Cox, Feres & Zhang 2018)", "units": "1"})
+    ds["box_collisions"] = ("orbit", walls.sum(axis=1))
+    ds["kind"] = ((), m.kind)
+    ds["eigen_sum"] = ((), m.eigen_sum)                          # measured
+    ds["eigen_sum_theory"] = ((), float(two_disk_eigen_sum(1.0 / radius, d, phi, gamma)))
     ds.attrs.update(title="two disks in a box: specular and no-slip orbits from one start", radius=radius,
                     phi=phi, gamma=gamma, box=[width, height], perturbation=perturbation,
                     n_specular=n_specular, n_noslip=n_noslip, periodic_position=list(state["position"]),
                     periodic_velocity=list(state["velocity"]), periodic_spin=state["spin"])
-    return ds
+    return annotate(ds)
 
 
 def sphere_bounce(*, position=(0.0, 0.0, 0.5), velocity=(0.28, 0.51, 0.0), spin=(0.7, -0.25, 0.2),
@@ -506,7 +483,7 @@ def sphere_bounce(*, position=(0.0, 0.0, 0.5), velocity=(0.28, 0.51, 0.0), spin=
     xarray.Dataset
         The bounce log (dims ``collision``, ``component``) with ``e1``, ``e2``,
         ``drift_theory`` (``D``) and ``drift`` (the mean of
-        ``q_{k+2} - q_k``, measured) along ``component``, ``drift_spread`` (the
+        ``q_{k+2} - q_k``, measured) along ``component``, ``drift_error`` (the
         largest deviation of one ``q_{k+2} - q_k`` from ``D``) and the bounce
         points' coordinates ``along_e1``, ``along_e2``.
 
@@ -535,15 +512,12 @@ def sphere_bounce(*, position=(0.0, 0.0, 0.5), velocity=(0.28, 0.51, 0.0), spin=
     q = ds.position.values
     steps = q[2:] - q[:-2]
     vec = ("component",)
-    ds["e1"] = (vec, e1, {"long_name": "unit drift direction e1 = D/|D|", "units": "1"})
-    ds["e2"] = (vec, e2, {"long_name": "tangential direction e2 = n x e1 (2-periodic motion)", "units": "1"})
-    ds["drift_theory"] = (vec, D, {"long_name": "drift per two bounces, 4 u (v_T - gamma n x W_T)/(g (1+gamma^2))",
-                                   "units": "1"})
-    ds["drift"] = (vec, steps.mean(axis=0), {"long_name": "mean displacement of the bounce point per two bounces",
-                                             "units": "1"})
-    ds["drift_spread"] = ((), float(np.abs(steps - D).max()), {
-        "long_name": "largest deviation of one two-bounce displacement from the formula", "units": "1"})
-    ds["along_e1"] = ("collision", q @ e1, {"long_name": "bounce point along e1", "units": "1"})
-    ds["along_e2"] = ("collision", q @ e2, {"long_name": "bounce point along e2", "units": "1"})
+    ds["e1"] = (vec, e1)
+    ds["e2"] = (vec, e2)
+    ds["drift_theory"] = (vec, D)
+    ds["drift"] = (vec, steps.mean(axis=0))
+    ds["drift_error"] = ((), float(np.abs(steps - D).max()))
+    ds["along_e1"] = ("collision", q @ e1)
+    ds["along_e2"] = ("collision", q @ e2)
     ds.attrs.update(title="no-slip sphere bouncing on a plane", impact_speed=u, n_bounces=n_bounces)
-    return ds
+    return annotate(ds)

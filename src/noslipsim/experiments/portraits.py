@@ -17,7 +17,7 @@ from .._validate import count
 from ..analysis import islands
 from ..analysis.portraits import birkhoff_coordinates, boundary_coordinate
 from ..ensemble import simulate_many
-from ..metadata import annotate
+from .._metadata import annotate
 from ..scenes import Scene
 from .galton import gamma_values
 
@@ -35,31 +35,27 @@ def _portrait_case(scene, n_orbits, n_collisions, seed, elements, lyapunov_colli
     o, p = ("orbit",), ("orbit", "point")
     data = {
         "element": (p, rec.element.values.astype(np.float32), rec.element.attrs),
-        "s_boundary": (p, coords.s_boundary.values, coords.s_boundary.attrs),
+        "s_boundary": (p, coords.s_boundary.values),
         "vt_unit": (p, rec.vt_unit.values, rec.vt_unit.attrs),
         "w_unit": (p, rec.w_unit.values, rec.w_unit.attrs),
         "n_points": (o, rec.n_points.values, rec.n_points.attrs),
-        "x_start": (o, start["positions"][:, 0], {"long_name": "x of the interior start (mid first flight)",
-                                                  "units": "1"}),
-        "y_start": (o, start["positions"][:, 1], {"long_name": "y of the interior start (mid first flight)",
-                                                  "units": "1"}),
-        "vx_start": (o, start["velocities"][:, 0], {"long_name": "x velocity at the interior start", "units": "1"}),
-        "vy_start": (o, start["velocities"][:, 1], {"long_name": "y velocity at the interior start", "units": "1"}),
-        "spin_start": (o, start["spins"], {"long_name": "scaled spin at the start (CCW positive)", "units": "1"}),
+        "x_start": (o, start["positions"][:, 0]),     # the interior start: mid first flight
+        "y_start": (o, start["positions"][:, 1]),
+        "vx_start": (o, start["velocities"][:, 0]),
+        "vy_start": (o, start["velocities"][:, 1]),
+        "spin_start": (o, start["spins"]),
     }
     if scene.law == "specular":
-        data["sin_angle"] = (p, coords.sin_angle.values, coords.sin_angle.attrs)
+        data["sin_angle"] = (p, coords.sin_angle.values)
     if lyapunov_collisions is not None:
         lam = islands.finite_time_lyapunov(scene, start["positions"], start["velocities"], start["spins"],
                                            n_collisions=lyapunov_collisions)
-        data["ftle"] = (o, lam, {"long_name": f"finite-time Lyapunov exponent per collision over "
-                                              f"{lyapunov_collisions} collisions (NaN: corner)", "units": "1"})
+        data["ftle"] = (o, lam)    # over lyapunov_collisions collisions (a dataset attribute)
     return xr.Dataset(data), coords.attrs
 
 
 def portrait_set(scenes, labels, *, dim="case", n_orbits=20, n_collisions=1000, seed=0, elements=None,
-                 lyapunov_collisions=None, threshold=None, chunk_size=None, scheduler=None, progress=None,
-                 num_workers=None):
+                 lyapunov_collisions=None, chunk_size=None, scheduler=None, progress=None, num_workers=None):
     r"""Phase portraits of several tables (or one table under several parameters) as one dataset.
 
     Every orbit starts on the boundary uniformly in the billiard map's
@@ -83,7 +79,8 @@ def portrait_set(scenes, labels, *, dim="case", n_orbits=20, n_collisions=1000, 
     labels : sequence
         The coordinate of each case along ``dim`` (names or numbers).
     dim : str
-        Name of the case dimension (``"table"``, ``"gamma"``, ``"force"`` ...).
+        Name of the case dimension (``"table"``, ``"gamma"``, ``"force"`` ...); a name
+        without an entry of its own in docs/datasets.md is described as ``case``.
     n_orbits, n_collisions : int
         Orbits per case and collisions per orbit (points are recorded only on
         ``elements``).
@@ -93,11 +90,8 @@ def portrait_set(scenes, labels, *, dim="case", n_orbits=20, n_collisions=1000, 
         Elements recorded and started on (default: all; they must be finite).
     lyapunov_collisions : int, optional
         If given, each orbit's finite-time exponent per collision over this
-        many collisions (``ftle``) and the flag ``regular`` (``ftle <
-        threshold``).
-    threshold : float, optional
-        Regular-orbit threshold (default
-        :data:`noslipsim.analysis.islands.REGULAR_THRESHOLD`).
+        many collisions (``ftle``); :func:`noslipsim.analysis.classify_regular`
+        flags the regular orbits with a threshold of the reader's choice.
     chunk_size, scheduler, progress, num_workers
         Passed to :func:`noslipsim.simulate_many`.
 
@@ -107,7 +101,7 @@ def portrait_set(scenes, labels, *, dim="case", n_orbits=20, n_collisions=1000, 
         Dims ``(dim, orbit, point)``: ``element``, ``s_boundary``, ``vt_unit``,
         ``w_unit`` (NaN-padded), ``sin_angle`` (specular cases only, NaN for
         the others), ``n_points``; the interior starts ``x_start`` ...
-        ``spin_start``; ``ftle`` and ``regular``; per case ``scene`` (JSON),
+        ``spin_start``; ``ftle``; per case ``scene`` (JSON),
         ``law``, ``gamma``, ``force_x``, ``force_y``, ``boundary_length``.
     """
 
@@ -125,7 +119,6 @@ def portrait_set(scenes, labels, *, dim="case", n_orbits=20, n_collisions=1000, 
     n_collisions = count(n_collisions, "n_collisions")
     if lyapunov_collisions is not None:
         lyapunov_collisions = count(lyapunov_collisions, "lyapunov_collisions", minimum=9)
-    threshold = islands.REGULAR_THRESHOLD if threshold is None else float(threshold)
     parts, lengths = [], []
     for sc in scenes:
         part, battrs = _portrait_case(sc, n_orbits, n_collisions, seed, elements, lyapunov_collisions, chunk_size,
@@ -135,72 +128,59 @@ def portrait_set(scenes, labels, *, dim="case", n_orbits=20, n_collisions=1000, 
     if any("sin_angle" in part for part in parts):   # Birkhoff p only means something for specular cases
         for part in parts:
             if "sin_angle" not in part:
-                part["sin_angle"] = xr.full_like(part.vt_unit, np.nan)
-        for part in parts:
-            part["sin_angle"].attrs = {"long_name": "Birkhoff p: sine of the exit angle to the inward normal "
-                                                    "(specular cases; NaN for no-slip ones)", "units": "1"}
+                part["sin_angle"] = (part.vt_unit.dims, np.full(part.vt_unit.shape, np.nan))
     ds = xr.concat(parts, dim=xr.DataArray(labels, dims=dim, name=dim), data_vars="all", join="outer",
                    fill_value=np.nan)
     ds = ds.isel(point=slice(0, max(1, int(ds.n_points.max()))))   # drop the padding no orbit uses
-    if lyapunov_collisions is not None:
-        ds["regular"] = (ds.ftle < threshold).astype(np.int8)
-        ds["regular"].attrs = {"long_name": f"1 if ftle < {threshold:g} (an orbit on an invariant torus)",
-                               "units": "1"}
     case = (dim,)
-    ds["scene"] = (case, np.array([sc.to_json() for sc in scenes], dtype=object),
-                   {"long_name": "the case's scene as JSON (docs/scenes.md)", "units": "1"})
-    ds["boundary_length"] = (case, np.array(lengths), {"long_name": "length of the recorded boundary",
-                                                       "units": "1"})
+    ds["scene"] = (case, np.array([sc.to_json() for sc in scenes], dtype=object))
+    ds["boundary_length"] = (case, np.array(lengths))
     per_case = {
-        "law": ([sc.law for sc in scenes], {"long_name": "collision law", "units": "1"}),
-        "gamma": ([sc.gamma if sc.law == "no-slip" else math.nan for sc in scenes],
-                  {"long_name": "mass-distribution constant gamma (NaN: specular, not used)", "units": "1"}),
-        "force_x": ([sc.force[0] for sc in scenes], {"long_name": "force per unit mass, x", "units": "1"}),
-        "force_y": ([sc.force[1] for sc in scenes], {"long_name": "force per unit mass, y", "units": "1"}),
+        "law": [sc.law for sc in scenes],
+        "gamma": [sc.gamma if sc.law == "no-slip" else math.nan for sc in scenes],
+        "force_x": [sc.force[0] for sc in scenes],
+        "force_y": [sc.force[1] for sc in scenes],
     }
-    ds = ds.assign_coords({k: (case, v, a) for k, (v, a) in per_case.items() if k != dim})
-    ds[dim].attrs.setdefault("units", "1")
-    ds[dim].attrs.setdefault("long_name", dim)
+    ds = ds.assign_coords({k: (case, v) for k, v in per_case.items() if k != dim})
     ds.attrs.update(title="phase portraits", n_orbits=n_orbits, n_collisions=n_collisions, seed=seed,
                     elements="all" if elements is None else list(elements),
                     lyapunov_collisions=-1 if lyapunov_collisions is None else lyapunov_collisions,
-                    regular_threshold=threshold,
                     sampling="uniform in the invariant measure: ds dv_t dw (no-slip), ds dp (specular)")
-    return annotate(ds)
+    return annotate(ds, case_dim=dim)
 
 
 def sinai_gamma_portraits(gammas=(0.0, 0.25, 0.5, 0.75, 1.0), *, radius=0.45, n_orbits=100, n_collisions=2000,
-                          seed=0, lyapunov_collisions=1000, threshold=None, chunk_size=None, scheduler=None,
-                          progress=None, num_workers=None):
+                          seed=0, lyapunov_collisions=1000, chunk_size=None, scheduler=None, progress=None,
+                          num_workers=None):
     """Velocity portraits of the no-slip Sinai torus for several gammas (paper, Figure ``lorentzgamma``).
 
     :func:`portrait_set` on :func:`noslipsim.tables.sinai_torus` ``(radius)``,
     one case per gamma (dim ``gamma``), each orbit with its finite-time
-    exponent (``ftle``, ``regular``).  ``gamma = 0`` is the specular billiard
+    exponent (``ftle``).  ``gamma = 0`` is the specular billiard
     with the spin reversed at every collision (its portrait shows
     horizontal lines: ``|w|`` is constant).
     """
     gammas = gamma_values(gammas)
     ds = portrait_set([tables.sinai_torus(radius, gamma=g) for g in gammas], gammas, dim="gamma",
                       n_orbits=n_orbits, n_collisions=n_collisions, seed=seed,
-                      lyapunov_collisions=lyapunov_collisions, threshold=threshold, chunk_size=chunk_size,
-                      scheduler=scheduler, progress=progress, num_workers=num_workers)
-    ds["gamma"].attrs.update(long_name="mass-distribution constant gamma", units="1")
+                      lyapunov_collisions=lyapunov_collisions, chunk_size=chunk_size, scheduler=scheduler,
+                      progress=progress, num_workers=num_workers)
     ds.attrs.update(title="velocity portraits of the no-slip Sinai torus against gamma", radius=radius)
     return ds
 
 
 def sinai_islands_sweep(radii=(0.45, 0.4), gammas=tuple(np.round(np.linspace(0.0, 1.0, 21), 10)), *,
-                        n_orbits=500, n_collisions=1000, seed=0, threshold=None, level=None, progress=False):
-    r"""Regular share of the no-slip Sinai torus against gamma, for several scatterer radii.
+                        n_orbits=500, n_collisions=1000, seed=0, progress=False):
+    r"""Finite-time exponents of the no-slip Sinai torus against gamma, for several scatterer radii.
 
     For each radius and gamma, ``n_orbits`` starts uniform in the invariant
-    measure ``ds dv_t dw`` (the same scaled draws everywhere), each orbit's
+    measure ``ds dv_t dw`` (the same scaled draws everywhere) and each orbit's
     finite-time Lyapunov exponent per collision over ``n_collisions``
-    collisions, and the regular share ``p`` (exponent below ``threshold``)
-    with its binomial error (:mod:`noslipsim.analysis.islands`).  Beside it,
-    the linear theory's onset :math:`\gamma_0(R) = \sqrt{1/(2R) - 1}` (the
-    head-on 2-periodic orbit between neighbouring disks turns elliptic).
+    collisions; :func:`noslipsim.analysis.islands_onsets` turns them into the
+    regular share ``p`` (exponent below a threshold) with its binomial error
+    and the onset of islands.  Beside them, the linear theory's onset
+    :math:`\gamma_0(R) = \sqrt{1/(2R) - 1}` (the head-on 2-periodic orbit
+    between neighbouring disks turns elliptic).
 
     Parameters
     ----------
@@ -211,24 +191,16 @@ def sinai_islands_sweep(radii=(0.45, 0.4), gammas=tuple(np.round(np.linspace(0.0
     n_orbits, n_collisions : int
         Orbits per point and collisions per exponent.
     seed : int
-        Seed of the starts.
-    threshold, level : float, optional
-        Regular threshold and visibility level (defaults
-        :data:`~noslipsim.analysis.islands.REGULAR_THRESHOLD`,
-        :data:`~noslipsim.analysis.islands.VISIBLE_SHARE`).
+        Seed of the starts (and of the onset's bootstrap).
     progress : bool
         Print one line per (radius, gamma) to stderr.
 
     Returns
     -------
     xarray.Dataset
-        Dims ``(radius, gamma, orbit)``: ``ftle``; ``share_regular``,
-        ``share_regular_stderr``, ``n_regular``, ``n_valid`` per point;
-        ``head_on_onset`` per radius; the measured onset (first crossing of
-        ``level``, bootstrap error) as ``onset_gamma``, ``onset_gamma_stderr``,
-        ``onset_gamma_low``, ``onset_gamma_high`` per radius.
+        Dims ``(radius, gamma, orbit)``: ``ftle``; ``head_on_onset`` per radius.
+        The attribute ``lyapunov_collisions`` (``n_collisions``) is the exponents' length.
     """
-
 
     radii = [float(r) for r in np.atleast_1d(np.asarray(radii, dtype=float))]
     if not radii or len(set(radii)) != len(radii):
@@ -238,8 +210,6 @@ def sinai_islands_sweep(radii=(0.45, 0.4), gammas=tuple(np.round(np.linspace(0.0
         raise ValueError(f"gammas: expected at least two increasing values, got {gammas}")
     n_orbits = count(n_orbits, "n_orbits")
     n_collisions = count(n_collisions, "n_collisions", minimum=9)
-    threshold = islands.REGULAR_THRESHOLD if threshold is None else float(threshold)
-    level = islands.VISIBLE_SHARE if level is None else float(level)
     lam = np.full((len(radii), len(gammas), n_orbits), np.nan)
     for i, R in enumerate(radii):
         for j, g in enumerate(gammas):
@@ -248,44 +218,20 @@ def sinai_islands_sweep(radii=(0.45, 0.4), gammas=tuple(np.round(np.linspace(0.0
             lam[i, j] = islands.finite_time_lyapunov(scene, start["positions"], start["velocities"],
                                                      start["spins"], n_collisions=n_collisions)
             if progress:
-                print(f"sinai_islands_sweep: R = {R:g}, gamma = {g:g}: regular share "
-                      f"{islands.regular_share(lam[i, j], threshold)[0]:.3f}", file=sys.stderr, flush=True)
-    share, err, n_valid = islands.regular_share(lam, threshold)
-    k = np.rint(share * n_valid).astype(np.int64)
-    onsets = [islands.onset_gamma(gammas, k[i], n_valid[i], level=level, seed=seed) for i in range(len(radii))]
-    rg, rgo = ("radius", "gamma"), ("radius", "gamma", "orbit")
-    one = {"units": "1"}
+                print(f"sinai_islands_sweep: R = {R:g}, gamma = {g:g}: median exponent "
+                      f"{np.nanmedian(lam[i, j]):.3f}", file=sys.stderr, flush=True)
     ds = xr.Dataset({
-        "ftle": (rgo, lam, {"long_name": f"finite-time Lyapunov exponent per collision over {n_collisions} "
-                                         "collisions (NaN: corner)", **one}),
-        "share_regular": (rg, share, {"long_name": f"share of orbits with ftle < {threshold:g} (regular)", **one}),
-        "share_regular_stderr": (rg, err, {"long_name": "binomial standard error of share_regular", **one}),
-        "n_regular": (rg, k, {"long_name": "orbits with ftle below the threshold", **one}),
-        "n_valid": (rg, n_valid, {"long_name": "orbits with an exponent", **one}),
-        "head_on_onset": ("radius", [islands.head_on_onset_gamma(R) for R in radii],
-                          {"long_name": "gamma above which the head-on 2-periodic orbit between neighbouring "
-                                        "disks is elliptic, sqrt(1/(2R) - 1)", **one}),
-        "onset_gamma": ("radius", [o["value"] for o in onsets],
-                        {"long_name": f"smallest gamma with share_regular >= {level:g} (linear interpolation)",
-                         **one}),
-        "onset_gamma_stderr": ("radius", [o["stderr"] for o in onsets],
-                               {"long_name": "bootstrap standard deviation of onset_gamma", **one}),
-        "onset_gamma_low": ("radius", [o["low"] for o in onsets],
-                            {"long_name": "16th percentile of the bootstrap onsets", **one}),
-        "onset_gamma_high": ("radius", [o["high"] for o in onsets],
-                             {"long_name": "84th percentile of the bootstrap onsets", **one}),
-    }, coords={"radius": ("radius", radii, {"long_name": "scatterer radius (unit torus)", **one}),
-               "gamma": ("gamma", gammas, {"long_name": "mass-distribution constant gamma", **one}),
-               "orbit": np.arange(n_orbits)})
-    ds.attrs.update(title="regular share of the no-slip Sinai torus against gamma", n_orbits=n_orbits,
-                    n_collisions=n_collisions, seed=seed, regular_threshold=threshold, visible_share=level,
+        "ftle": (("radius", "gamma", "orbit"), lam),
+        "head_on_onset": ("radius", [islands.head_on_onset_gamma(R) for R in radii]),
+    }, coords={"radius": radii, "gamma": gammas, "orbit": np.arange(n_orbits)})
+    ds.attrs.update(title="finite-time exponents of the no-slip Sinai torus against gamma", n_orbits=n_orbits,
+                    n_collisions=n_collisions, lyapunov_collisions=n_collisions, seed=seed,
                     sampling="uniform in the invariant measure ds dv_t dw (the same scaled draws everywhere)")
     return annotate(ds)
 
 
 def hex_force_portraits(gammas=(1 / math.sqrt(2), 1.0), forces=(0.0, 0.1, 4.0), *, radius=0.4, n_orbits=100,
-                        n_collisions=5000, seed=0, lyapunov_collisions=5000, threshold=None,
-                        energy_collisions=None, chunk_size=None, scheduler=None, progress=None, num_workers=None):
+                        n_collisions=5000, seed=0, lyapunov_collisions=5000, energy_collisions=None, chunk_size=None, scheduler=None, progress=None, num_workers=None):
     """Velocity portraits of a disk in a closed hexagonal cell under a force (paper, Figure ``VPPforce``).
 
     The table is :func:`noslipsim.tables.closed_hex_cell` with the force ``(0, -g)``; points are
@@ -312,7 +258,7 @@ def hex_force_portraits(gammas=(1 / math.sqrt(2), 1.0), forces=(0.0, 0.1, 4.0), 
         cells = [tables.closed_hex_cell(radius, gamma=gm, force=(0.0, -g if g else 0.0)) for g in forces]
         rows.append(portrait_set(cells, forces, dim="force", n_orbits=n_orbits, n_collisions=n_collisions,
                                  seed=seed, elements=[disk], lyapunov_collisions=lyapunov_collisions,
-                                 threshold=threshold, chunk_size=chunk_size, scheduler=scheduler, progress=progress,
+                                 chunk_size=chunk_size, scheduler=scheduler, progress=progress,
                                  num_workers=num_workers).drop_vars("gamma"))
         per_force = []
         for g, closed in zip(forces, cells):
@@ -330,14 +276,8 @@ def hex_force_portraits(gammas=(1 / math.sqrt(2), 1.0), forces=(0.0, 0.1, 4.0), 
     size = max(r.sizes["point"] for r in rows)      # each row was trimmed to its own longest orbit
     rows = [r.pad(point=(0, size - r.sizes["point"]), constant_values=np.nan) for r in rows]
     ds = xr.concat(rows, dim=xr.DataArray(gammas, dims="gamma", name="gamma"), data_vars="all")
-    ds["kinetic_final"] = (("gamma", "force", "cell", "orbit"), np.array(energy), {
-        "long_name": f"kinetic energy (|v|^2 + w^2)/2 after {energy_collisions} collisions from the same starts "
-                     "on the disk (start: 1/2)", "units": "1"})
-    ds = ds.assign_coords(cell=("cell", ["closed", "periodic"], {
-        "long_name": "closed: hexagonal cell with no-slip walls (the figure's table); periodic: the hexagonal "
-                     "Lorentz gas", "units": "1"}))
-    ds["gamma"].attrs.update(long_name="mass-distribution constant gamma", units="1")
-    ds["force"].attrs.update(long_name="force strength g (force (0, -g) per unit mass)", units="1")
+    ds["kinetic_final"] = (("gamma", "force", "cell", "orbit"), np.array(energy))   # after energy_collisions
+    ds = ds.assign_coords(cell=["closed", "periodic"])
     ds.attrs.update(title="velocity portraits of a disk in a closed hexagonal cell under a force", radius=radius,
                     energy_collisions=energy_collisions, recorded_elements="the disk (element 6)",
                     table_choice="closed hexagonal cell with no-slip walls: in the periodic Lorentz gas a constant "
@@ -373,14 +313,13 @@ def polygon_portraits(sides=(4, 6, 12, 20), *, aspect=2.0, gamma=1 / math.sqrt(2
     ds = portrait_set(scenes, [POLYGON_NAMES.get(n, f"{n}-gon") for n in sides], dim="table", n_orbits=n_orbits,
                       n_collisions=n_collisions, seed=seed, chunk_size=chunk_size, scheduler=scheduler,
                       progress=progress, num_workers=num_workers)
-    ds = ds.assign_coords(sides=("table", sides, {"long_name": "number of sides", "units": "1"}))
+    ds = ds.assign_coords(sides=("table", sides))
     ds.attrs.update(title="velocity portraits of no-slip polygons", rectangle_aspect=aspect)
-    return ds
+    return annotate(ds)
 
 
 def lemon_sinai_portraits(*, lemon_radius=1.0, lemon_distance=1.0, sinai_radius=0.45, gamma=1 / math.sqrt(2),
-                          n_orbits=60, n_collisions=3000, seed=0, lyapunov_collisions=1000, threshold=None,
-                          chunk_size=None, scheduler=None, progress=None, num_workers=None):
+                          n_orbits=60, n_collisions=3000, seed=0, lyapunov_collisions=1000, chunk_size=None, scheduler=None, progress=None, num_workers=None):
     """The specular lemon and the no-slip Sinai torus (paper, Figure ``phaseportraits``).
 
     A :func:`portrait_set` dataset with dim ``table`` = ``["lemon", "sinai"]``:
@@ -391,7 +330,7 @@ def lemon_sinai_portraits(*, lemon_radius=1.0, lemon_distance=1.0, sinai_radius=
     """
     scenes = [tables.lemon(lemon_radius, lemon_distance), tables.sinai_torus(sinai_radius, gamma=gamma)]
     ds = portrait_set(scenes, ["lemon", "sinai"], dim="table", n_orbits=n_orbits, n_collisions=n_collisions,
-                      seed=seed, lyapunov_collisions=lyapunov_collisions, threshold=threshold, chunk_size=chunk_size,
+                      seed=seed, lyapunov_collisions=lyapunov_collisions, chunk_size=chunk_size,
                       scheduler=scheduler, progress=progress, num_workers=num_workers)
     ds.attrs.update(title="phase portraits: specular lemon, no-slip Sinai torus", lemon_radius=lemon_radius,
                     lemon_distance=lemon_distance, sinai_radius=sinai_radius)

@@ -15,7 +15,7 @@ from .. import tables
 from .._validate import count
 from ..analysis import find_periodic_orbit, monodromy, wedge_orbit
 from ..analysis.section import state_from_reduced
-from ..metadata import annotate
+from .._metadata import annotate
 from ..simulate import simulate
 from .orbit_sets import orbit_set
 
@@ -251,46 +251,30 @@ def wedge_periodic_orbits(phi=0.6, gamma=1 / math.sqrt(2), *, gravity=1.0, rever
     ev = np.array([r["mono"].eigenvalues for r in rows])
     mismatch = np.array([_reversal_mismatch(r["scene"], ds.isel(orbit=i), r["period"]) for i, r in enumerate(rows)])
     extra = {
-        "case": ("what the orbit shows", "1", np.array([r["case"] for r in rows], dtype=object)),
-        "opening": ("which way the wedge opens (force (0, -g) in both)", "1",
-                    np.array([r["opening"] for r in rows], dtype=object)),
-        "period": ("collisions per period", "1", np.array([r["period"] for r in rows])),
-        "minimal_period": ("smallest number of collisions after which the run's state repeats", "1",
-                           np.array([_minimal_period(ds.isel(orbit=i), r["period"]) for i, r in enumerate(rows)])),
-        "theta": ("launch angle above the horizontal (path-reversing orbits)", "rad",
-                  np.array([r["theta"] for r in rows])),
-        "ell": ("distance of the launch point q0 from the vertex (path-reversing orbits)", "1",
-                np.array([r["ell"] for r in rows])),
-        "residual": ("periodicity residual max(|ds|/L, |dw|/V, |dv_t|/V) after one period", "1",
-                     np.array([r["residual"] for r in rows])),
-        "linear_kind": ("linear class of the monodromy of one period", "1",
-                        np.array([r["mono"].kind for r in rows], dtype=object)),
-        "eigen_sum": ("trace of the monodromy minus its eigenvalue closest to 1 (lambda + 1/lambda)", "1",
-                      np.array([r["mono"].eigen_sum for r in rows])),
-        "unit_count": ("eigenvalues equal to 1 (a family direction at fixed energy)", "1",
-                       np.array([r["mono"].unit_count() for r in rows])),
-        "identity_distance": ("max |M - I| (0 for a persistently periodic neighbourhood)", "1",
-                              np.array([np.abs(r["mono"].matrix - np.eye(3)).max() for r in rows])),
-        "reversal_mismatch": ("max over one period of |v_t - gamma w| / speed just before an impact "
-                              "(0: every impact reverses the path)", "1", mismatch),
-        "path_reversing": ("1 if every impact of a period reverses the path", "1",
-                           (mismatch <= REVERSAL_TOL).astype(np.int8)),
-        "family_distance": ("distance (scaled like the residual) of the periodic orbit found from family_step "
-                            "along the eigenvalue-1 direction (NaN: no eigenvalue 1)", "1",
-                            np.array([r["family"][0] for r in rows])),
-        "family_rotation": ("largest eigenvalue argument of that neighbouring orbit's monodromy", "rad",
-                            np.array([r["family"][1] for r in rows])),
+        "case": np.array([r["case"] for r in rows], dtype=object),
+        "opening": np.array([r["opening"] for r in rows], dtype=object),
+        "period": np.array([r["period"] for r in rows]),
+        "minimal_period": np.array([_minimal_period(ds.isel(orbit=i), r["period"]) for i, r in enumerate(rows)]),
+        "theta": np.array([r["theta"] for r in rows]),
+        "ell": np.array([r["ell"] for r in rows]),
+        "residual": np.array([r["residual"] for r in rows]),
+        "linear_kind": np.array([r["mono"].kind for r in rows], dtype=object),
+        "eigen_sum": np.array([r["mono"].eigen_sum for r in rows]),
+        "unit_count": np.array([r["mono"].unit_count() for r in rows]),
+        "identity_distance": np.array([np.abs(r["mono"].matrix - np.eye(3)).max() for r in rows]),
+        "reversal_mismatch": mismatch,
+        "path_reversing": (mismatch <= REVERSAL_TOL).astype(np.int8),
+        "family_distance": np.array([r["family"][0] for r in rows]),
+        "family_rotation": np.array([r["family"][1] for r in rows]),
     }
-    for k, (long_name, units, values) in extra.items():
-        ds[k] = ("orbit", values, {"long_name": long_name, "units": units})
-    ds["eigenvalue_real"] = (("orbit", "eigenvalue"), ev.real, {"long_name": "monodromy eigenvalues, real part "
-                                                                 "(by decreasing modulus)", "units": "1"})
-    ds["eigenvalue_imag"] = (("orbit", "eigenvalue"), ev.imag, {"long_name": "monodromy eigenvalues, imaginary "
-                                                                 "part", "units": "1"})
+    for k, values in extra.items():
+        ds[k] = ("orbit", values)
+    ds["eigenvalue_real"] = (("orbit", "eigenvalue"), ev.real)    # by decreasing modulus (monodromy)
+    ds["eigenvalue_imag"] = (("orbit", "eigenvalue"), ev.imag)
     ds.attrs.update(title="periodic orbits of no-slip wedges under gravity", phi=float(phi), gamma=float(gamma),
                     gravity=float(gravity), periods=periods, family_step=family_step, n_orbits=n,
                     reversal_tolerance=REVERSAL_TOL)
-    return ds
+    return annotate(ds)
 
 
 def perturbed_wedge_orbits(cases, *, phi, gamma=1 / math.sqrt(2), gravity=1.0, perturbation=1e-3,
@@ -382,33 +366,26 @@ def perturbed_wedge_orbits(cases, *, phi, gamma=1 / math.sqrt(2), gravity=1.0, p
             deviation[j, :k] = np.max([np.abs(s - ref_s) / float(case["ell"]), np.abs(w - ref_w) / ref_v,
                                        np.abs(vt - ref_vt) / ref_v], axis=0)
     twice = lambda values: np.concatenate([values, values])  # noqa: E731
-    ds = ds.assign_coords(case=("orbit", twice(np.arange(n)), {"long_name": "case index", "units": "1"}),
-                          role=("orbit", np.array(["periodic"] * n + ["perturbed"] * n, dtype=object),
-                                {"long_name": "periodic orbit or its perturbed copy", "units": "1"}))
+    ds = ds.assign_coords(case=("orbit", twice(np.arange(n))),
+                          role=("orbit", np.array(["periodic"] * n + ["perturbed"] * n, dtype=object)))
     extra = {
-        "theta": ("launch angle above the horizontal", "rad", [float(c["theta"]) for c in cases]),
-        "ell": ("distance of q0 from the vertex", "1", [float(c["ell"]) for c in cases]),
-        "opening": ("which way the wedge opens (force (0, -g) in both)", "1",
-                    np.array([c["opening"] for c in cases], dtype=object)),
-        "linear_kind": ("linear class of the periodic orbit's 2-bounce monodromy", "1",
-                        np.array([m.kind for m in monos], dtype=object)),
-        "eigen_sum": ("lambda + 1/lambda of the periodic orbit's 2-bounce monodromy", "1",
-                      [m.eigen_sum for m in monos]),
-        "lambda_max": ("largest |eigenvalue| of the periodic orbit's 2-bounce monodromy", "1",
-                       [float(np.abs(m.eigenvalues).max()) for m in monos]),
+        "theta": [float(c["theta"]) for c in cases],
+        "ell": [float(c["ell"]) for c in cases],
+        "opening": np.array([c["opening"] for c in cases], dtype=object),
+        "linear_kind": np.array([m.kind for m in monos], dtype=object),
+        "eigen_sum": [m.eigen_sum for m in monos],
+        "lambda_max": [float(np.abs(m.eigenvalues).max()) for m in monos],
     }
-    for k, (long_name, units, values) in extra.items():
-        ds[k] = ("orbit", twice(np.asarray(values)), {"long_name": long_name, "units": units})
-    ds["deviation"] = (("orbit", "collision"), deviation,
-                       {"long_name": "distance from the periodic orbit's impact on the same wall, "
-                                     "max(|ds|/ell, |dw|/V, |dv_t|/V)", "units": "1"})
+    for k, values in extra.items():
+        ds[k] = ("orbit", twice(np.asarray(values)))
+    ds["deviation"] = (("orbit", "collision"), deviation)
     ds.attrs.update(title="perturbed 2-periodic orbits of no-slip wedges under gravity", phi=float(phi),
                     gamma=float(gamma), gravity=float(gravity), n_collisions=n_collisions,
                     perturbation=json.dumps(perturbation, sort_keys=True),
                     perturbation_description=("start (half-way along q0 -> q1) with its velocity turned "
                                               "counter-clockwise by 'angle' rad, speed kept, and its spin "
                                               "multiplied by 1 + 'spin'"))
-    return ds
+    return annotate(ds)
 
 
 def _wedge_monodromy(phi, theta, gamma, gravity, opening, ell):
@@ -492,18 +469,12 @@ def wedge_launch_scan(phis, thetas, gamma=1 / math.sqrt(2), *, gravity=1.0, open
             transition[i] = _bisect(lambda th: _wedge_monodromy(phi, th, gamma, gravity, opening, ell).eigen_sum - 2.0,
                                     a, b, xtol)
     ds = xr.Dataset(
-        {"eigen_sum": (("phi", "theta"), es, {"long_name": "lambda + 1/lambda of the 2-bounce monodromy",
-                                              "units": "1"}),
-         "lambda_max": (("phi", "theta"), lam, {"long_name": "largest |eigenvalue| of the 2-bounce monodromy",
-                                                "units": "1"}),
-         "linear_kind": (("phi", "theta"), kinds.astype(str), {"long_name": "linear class ('' where the orbit "
-                                                                "does not exist)", "units": "1"}),
-         "theta_transition": ("phi", transition, {"long_name": "launch angle where the class first changes from "
-                                                  "elliptic to hyperbolic (lambda + 1/lambda = 2)", "units": "rad"}),
-         "theta_parallel": ("phi", math.pi / 2 - phis, {"long_name": "pi/2 - phi: launch parallel to the far wall",
-                                                        "units": "rad"})},
-        coords={"phi": ("phi", phis, {"long_name": "wedge half-angle (wall to bisector)", "units": "rad"}),
-                "theta": ("theta", thetas, {"long_name": "launch angle above the horizontal", "units": "rad"})})
+        {"eigen_sum": (("phi", "theta"), es),
+         "lambda_max": (("phi", "theta"), lam),
+         "linear_kind": (("phi", "theta"), kinds.astype(str)),
+         "theta_transition": ("phi", transition),
+         "theta_parallel": ("phi", math.pi / 2 - phis)},
+        coords={"phi": phis, "theta": thetas})
     ds.attrs.update(title="linear class of 2-periodic wedge orbits along the launch angle", gamma=float(gamma),
                     gravity=float(gravity), opening=opening, ell=float(ell), xtol=float(xtol))
     return annotate(ds)

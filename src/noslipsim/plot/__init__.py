@@ -19,10 +19,13 @@ Figure scripts read datasets and draw with these; they never simulate.
 - :func:`draw_layered_portrait`, :func:`draw_birkhoff`, :func:`draw_reduced_portrait`,
   :func:`orbit_colors`: phase portraits with one colour per orbit and the chaotic sea apart,
   the specular Birkhoff portrait, the reduced no-slip portrait in 3D;
-- :func:`save_figure`: PDF and PNG, byte-stable;
+- :func:`save_figure`: PDF and PNG, byte-stable; it refuses a panel without data;
+- :func:`load_figure_data`, :func:`require_points`: a figure's dataset, refused when it holds
+  nothing to draw (:class:`EmptyFigureError`);
 - :func:`numbers_markdown`: the table of the paper's computed numbers.
 """
 from .annotate import draw_angle, draw_ray, label_point
+from .checks import EmptyFigureError, load_figure_data, require_points
 from .grids import draw_stability_grid
 from .numbers import numbers_markdown
 from .orbits import draw_orbit, draw_spin, mark_ends, orbit_nodes, orbit_path
@@ -40,3 +43,4 @@ __all__ = ["LAW_COLORS", "STYLE", "auto_window", "draw_orbit", "draw_portrait", 
 __all__ += ["draw_angle", "draw_ray", "label_point", "sphere_path"]
 __all__ += ["draw_class_boundary", "draw_deviation", "draw_return_points", "draw_two_disk_setup", "return_points"]
 __all__ += ["draw_birkhoff", "draw_layered_portrait", "draw_reduced_portrait", "orbit_colors"]
+__all__ += ["EmptyFigureError", "load_figure_data", "require_points"]

@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._metadata import long_name
+
 
 def draw_stability_grid(ax, grid, *, threshold=None, vmin=None, vmax=None, cmap="magma",
                         threshold_color="c", threshold_label="ellipticity threshold", rasterized=True):
@@ -59,6 +61,6 @@ def draw_stability_grid(ax, grid, *, threshold=None, vmin=None, vmax=None, cmap=
         ax.plot(tx, ty, linestyle="--", color=threshold_color, linewidth=1.0, label=threshold_label)
     ax.set_xlim(xlim)
     ax.set_ylim(ylim)
-    ax.set_xlabel(grid[xdim].attrs.get("long_name", xdim))
-    ax.set_ylabel(grid[ydim].attrs.get("long_name", ydim))
+    ax.set_xlabel(long_name(grid[xdim], xdim))
+    ax.set_ylabel(long_name(grid[ydim], ydim))
     return mesh

@@ -23,6 +23,7 @@ import numpy as np
 from matplotlib import colormaps
 from matplotlib.colors import to_rgba
 
+from .checks import require_points
 from .portraits import portrait_points, velocity_disk_axes
 
 #: Colour of the chaotic sea.
@@ -119,6 +120,7 @@ def _points(portrait, names):
         raise ValueError(f"portrait: variables {names} differ in shape")
     orbit = np.broadcast_to(np.arange(shape[0])[:, None], shape) if len(shape) == 2 else np.zeros(shape, int)
     keep = np.logical_and.reduce([np.isfinite(a) for a in arrays])
+    require_points(arrays[0][keep], "portrait")
     return [a[keep] for a in arrays], orbit[keep]
 
 

@@ -14,6 +14,8 @@ docs/datasets.md).
 from __future__ import annotations
 
 import numpy as np
+
+from .checks import require_points
 from matplotlib.patches import Circle as CirclePatch
 
 #: Points may lie this far outside the unit disk (rounding of the normalisation).
@@ -27,6 +29,8 @@ def portrait_points(portrait):
     ------
     ValueError
         When ``vt_unit``/``w_unit`` are missing or a point lies off the unit disk.
+    EmptyFigureError
+        When no point was recorded (a panel would be empty).
     """
     for k in ("vt_unit", "w_unit"):
         if k not in portrait.variables:
@@ -38,6 +42,7 @@ def portrait_points(portrait):
     orbit = np.broadcast_to(np.arange(vt.shape[0])[:, None], vt.shape) if vt.ndim == 2 else np.zeros(vt.shape, int)
     keep = np.isfinite(vt) & np.isfinite(w)
     vt, w, orbit = vt[keep], w[keep], orbit[keep]
+    require_points(vt, "portrait")
     r = np.hypot(vt, w)
     if (r > 1.0 + UNIT_DISK_TOL).any():
         raise ValueError(f"portrait: a point lies off the unit disk (|(v_t, w)| = {r.max():.6g} > 1)")

@@ -12,6 +12,8 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 
+from .checks import check_panels
+
 #: Metadata entries removed from each format (``None`` deletes an entry matplotlib would add).
 PDF_METADATA = {"Creator": None, "Producer": None, "CreationDate": None, "ModDate": None}
 PNG_METADATA = {"Software": None}
@@ -42,6 +44,8 @@ def save_figure(fig, path_stem, *, dpi=None, close=True):
         If ``fig`` is not a matplotlib Figure.
     ValueError
         For an empty path.
+    EmptyFigureError
+        A panel of ``fig`` shows no data (:func:`~noslipsim.plot.checks.check_panels`).
     """
     from matplotlib.figure import Figure
 
@@ -52,6 +56,7 @@ def save_figure(fig, path_stem, *, dpi=None, close=True):
         stem = stem.with_suffix("")
     if not stem.name:
         raise ValueError(f"path_stem: expected a file path without extension, got {path_stem!r}")
+    check_panels(fig)
     stem.parent.mkdir(parents=True, exist_ok=True)
     pdf, png = stem.with_name(stem.name + ".pdf"), stem.with_name(stem.name + ".png")
     fig.savefig(pdf, format="pdf", metadata=PDF_METADATA)

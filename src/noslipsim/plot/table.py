@@ -18,7 +18,7 @@ from matplotlib.patches import Circle as CirclePatch
 from matplotlib.patches import Polygon
 
 from ..elements import Arc, Circle, Line, Segment
-from ..lattice import lattice_matrix
+from .._engine.lattice import lattice_matrix
 from ..scenes import Scene
 from .style import SCATTERER_COLOR, WALL_COLOR
 

@@ -14,8 +14,8 @@ import math
 
 import numpy as np
 
-from .core.tolerances import JUNCTION_GATE  # noqa: F401  (documented here, used by the kernel)
-from .elements import Arc, Circle, Line, Segment
+from ..core.tolerances import JUNCTION_GATE, NONCONVEX_END_FACTOR  # noqa: F401  (the gate: used by the kernel)
+from ..elements import Arc, Circle, Line, Segment
 
 #: Relative tolerance for "on the element" and for near-tangencies.
 _ON_TOL = 1e-9
@@ -82,23 +82,18 @@ def _meet(a, b, tol):
     return _on(b, _on(a, pts, tol), tol)
 
 
-def junction_arrays(scene):
+def junction_arrays(elements, placed, scale):
     """Per-element junction points in each element's own frame, as kernel arrays.
 
-    Returns ``(start, points)``: the junctions of element ``e`` are
-    ``points[start[e]:start[e + 1]]``.  In a periodic scene, copies of the
-    elements that reach cell 0 are paired, and each junction is stored in the
-    frame of the copy's element (shift removed).
+    ``placed`` lists ``(index, element copy, shift)`` for every copy of the
+    elements that reaches cell 0 (each element once, unshifted, in a plain
+    scene); ``scale`` is the table's length scale.  Returns ``(start,
+    points)``: the junctions of element ``e`` are ``points[start[e]:start[e +
+    1]]``, each stored in the frame of the copy's element (shift removed).
     """
-    if scene.lattice is None:
-        items = [(i, e, np.zeros(2)) for i, e in enumerate(scene.elements)]
-    else:
-        from .lattice import lattice_matrix, reaching_copies
-        A, _ = lattice_matrix(scene.lattice)
-        items = [(int(i), scene.elements[i].shifted(*(A @ [o1, o2])), A @ [o1, o2])
-                 for i, o1, o2 in reaching_copies(scene.elements, scene.lattice)]
-    tol = _ON_TOL * max(scene.scale, 1e-300)
-    per = [[] for _ in scene.elements]
+    items = placed
+    tol = _ON_TOL * max(scale, 1e-300)
+    per = [[] for _ in elements]
     # a meeting point lies within tol of both elements, hence in both boxes grown by tol:
     # pairs whose boxes are apart cannot meet, and skipping them changes no output
     boxes = np.array([e.bbox() for _, e, _ in items], float).reshape(-1, 4)
@@ -111,7 +106,7 @@ def junction_arrays(scene):
             for p in _meet(ea, eb, tol):
                 per[ia].append(p - sa)
                 per[ib].append(p - sb)
-    start = np.zeros(len(scene.elements) + 1, dtype=np.int64)
+    start = np.zeros(len(elements) + 1, dtype=np.int64)
     pts = []
     for i, lst in enumerate(per):
         uniq = np.unique(np.round(np.array(lst, float).reshape(-1, 2), 12), axis=0) if lst else np.zeros((0, 2))
@@ -145,8 +140,8 @@ def _frame_at(f, pt, tol):
     return None
 
 
-def end_factors(scene):
-    """Band factor of each end of each segment and arc: ``(n_elements, 2)``.
+def end_factors(elements, placed, scale):
+    """Band factor of each end of each segment and arc: ``(n_elements, 2)`` (arguments as :func:`junction_arrays`).
 
     1 where the end is a convex junction (the table lies inside the angle the
     two pieces make, so leaving either half plane leaves the table), else
@@ -154,18 +149,10 @@ def end_factors(scene):
     of the half planes) or a free end.  A junction with a line, a circle or
     the interior of another piece counts as convex (the safe choice).
     """
-    from .core.tolerances import NONCONVEX_END_FACTOR
-
-    if scene.lattice is None:
-        others = list(scene.elements)
-    else:
-        from .lattice import lattice_matrix, reaching_copies
-        A, _ = lattice_matrix(scene.lattice)
-        others = [scene.elements[i].shifted(*(A @ [o1, o2])) for i, o1, o2 in
-                  reaching_copies(scene.elements, scene.lattice)]
-    tol = _ON_TOL * max(scene.scale, 1e-300)
-    out = np.zeros((len(scene.elements), 2))
-    for i, e in enumerate(scene.elements):
+    others = [copy for _, copy, _ in placed]
+    tol = _ON_TOL * max(scale, 1e-300)
+    out = np.zeros((len(elements), 2))
+    for i, e in enumerate(elements):
         if not isinstance(e, (Segment, Arc)):
             continue
         for k, (pt, d_e, n_e) in enumerate(_end_frames(e)):

@@ -16,7 +16,7 @@ each cell, :mod:`noslipsim.core.disks`).  Before choosing a kernel,
    scene is translated so that the centroid of the elements' box centres sits
    at the origin (a single scatterer: its centre);
 3. the copies that reach a cell are found by exact geometry
-   (:func:`noslipsim.lattice.reaching_copies`), so none that can never be met
+   (:func:`noslipsim._engine.lattice.reaching_copies`), so none that can never be met
    in the cell is tested.
 
 None of this changes the billiard: a translation and a lattice vector are
@@ -35,6 +35,7 @@ from fractions import Fraction
 import numpy as np
 
 from .lattice import cell_of, cell_origin
+from .memo import per_scene
 
 #: Relative slack on the reduction conditions of a basis (``|a1 . a2| <= |a|^2 / 2``):
 #: a basis reduced up to rounding (the hexagonal one, whose ``|a2|^2`` rounds below 1) is kept.
@@ -181,17 +182,9 @@ def _box_centre(e):
     return np.array([0.5 * (x0 + x1), 0.5 * (y0 + y1)])
 
 
+@per_scene
 def canonical_form(scene):
-    """The canonical form of ``scene`` (cached on the scene); plain scenes are their own canonical form."""
-    cached = scene.__dict__.get("_canonical_form")
-    if cached is not None:
-        return cached
-    form = _build(scene)
-    object.__setattr__(scene, "_canonical_form", form)
-    return form
-
-
-def _build(scene):
+    """The canonical form of ``scene`` (built once per scene); plain scenes are their own canonical form."""
     eye = np.eye(2, dtype=np.int64)
     if scene.lattice is None:
         return CanonicalForm(scene, scene, np.zeros(2), eye, True)

@@ -8,6 +8,7 @@ indices ``cell_a1, cell_a2`` of the cell that holds them.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
@@ -16,9 +17,18 @@ REACH_MARGIN = 1e-9
 
 
 def lattice_matrix(lattice):
-    """``A`` (lattice vectors as columns) and its inverse ``B``."""
-    A = np.array([lattice["a1"], lattice["a2"]], dtype=float).T
-    return A, np.linalg.inv(A)
+    """``A`` (lattice vectors as columns) and its inverse ``B`` (read-only; built once per basis)."""
+    return _matrices(tuple(map(float, lattice["a1"])), tuple(map(float, lattice["a2"])))
+
+
+@lru_cache(maxsize=256)
+def _matrices(a1, a2):
+    A = np.array([a1, a2], dtype=float).T
+    with np.errstate(all="ignore"):
+        B = np.linalg.inv(A)
+    A.flags.writeable = False
+    B.flags.writeable = False
+    return A, B
 
 
 def reaching_copies(elements, lattice):
@@ -51,7 +61,7 @@ def reaching_copies(elements, lattice):
 
 def _reaches(e, A, B, o1, o2):
     """Whether the copy of ``e`` shifted by ``o1 a1 + o2 a2`` comes within ``REACH_MARGIN`` of cell 0."""
-    from .elements import Segment
+    from ..elements import Segment
 
     h = 0.5 + REACH_MARGIN
     shift = A @ np.array([o1, o2], float)

@@ -1,0 +1,187 @@
+"""A scene packed for the kernels, once: the arrays, the physics and the variant flags.
+
+:func:`kernel_table` is the one packing step between a :class:`~noslipsim.Scene`
+(a value: its elements, law, gamma, force and lattice) and the compiled event
+loop, which takes plain arrays (layout in :mod:`noslipsim.core.layout`).  It
+is built once per scene and kept while the scene lives (scenes are
+immutable).  The scene is packed as it is written; :mod:`.canonical` rewrites a
+periodic scene before it is packed, and :mod:`.run` calls the kernel.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..core import layout
+from ..elements import Arc, Circle, Line, Segment
+from .junctions import end_factors, junction_arrays
+from .lattice import disks_apart, lattice_matrix, reaching_copies
+from .memo import per_scene
+
+#: Disks of a lattice run the lean loop (:attr:`KernelTable.disk_lattice`) when no two come within
+#: this gap, relative to the cell's size: far outside the corner rule's contact band
+#: (``CONTACT_TOL``), so the general loop could never treat two of them as touching.
+DISK_GAP = 1e-9
+
+
+@dataclass(frozen=True, eq=False)
+class KernelTable:
+    """Everything the event loop needs about one scene, as the kernels take it.
+
+    Attributes
+    ----------
+    kinds, params : ndarray
+        Element kinds and parameter rows (:mod:`noslipsim.core.layout`).
+    copies : int64 ndarray (K, 3)
+        Element copies ``(element, o1, o2)`` that reach a cell (a plain scene:
+        each element once, unshifted).
+    A, B : ndarray (2, 2)
+        Lattice vectors as columns and the inverse (zeros for a plain scene).
+    lattice : bool
+        A periodic scene.
+    jstart, jpts : ndarray
+        Junction points per element (:mod:`.junctions`).
+    law : int
+        ``layout.SPECULAR`` or ``layout.NOSLIP``.
+    c, s : float
+        No-slip coefficients of the scene's gamma (``c^2 + s^2`` closest to 1).
+    ax, ay : float
+        The constant acceleration.
+    scale : float
+        Length scale of the table (largest coordinate magnitude of its elements).
+    has_force, noslip, disk_lattice, long_walls : bool
+        What the scene needs compiled in: cubic and quartic exits, the spin
+        update, the lean disk loop (:mod:`noslipsim.core.disks`), the long-wall
+        check (:func:`noslipsim.core.events.exact_line_hit`).
+    """
+
+    kinds: np.ndarray
+    params: np.ndarray
+    copies: np.ndarray
+    A: np.ndarray
+    B: np.ndarray
+    lattice: bool
+    jstart: np.ndarray
+    jpts: np.ndarray
+    law: int
+    c: float
+    s: float
+    ax: float
+    ay: float
+    scale: float
+    has_force: bool
+    noslip: bool
+    disk_lattice: bool
+    long_walls: bool
+
+    def variant(self, mode):
+        """The compile-time flags of the event loop for this table and record mode.
+
+        ``(force, spin, lattice, mode, disks, walls)``, each an exact bool (the
+        record mode an int): a scene without force never pays for cubic or
+        quartic exits, a specular one for spin updates, a plain one for the cell
+        walk, ``RECORD_NONE`` for the recorder, a table without long walls for
+        their exact check (:func:`noslipsim.core.loop.orbit_kernel`).
+        """
+        return self.has_force, self.noslip, self.lattice, int(mode), self.disk_lattice, self.long_walls
+
+    @property
+    def one_disk_per_cell(self):
+        """One disk scatterer inside each cell, no force: the lean loop without its copy loop."""
+        return self.disk_lattice and self.copies.shape == (1, 3) and not self.copies[0, 1:].any()
+
+    def arrays(self):
+        """The table's arguments of the kernels, in their order: ``(kinds, params, copies, A, B, lattice, jstart, jpts)``."""
+        return self.kinds, self.params, self.copies, self.A, self.B, self.lattice, self.jstart, self.jpts
+
+
+@per_scene
+def scene_copies(scene):
+    """Int array ``(K, 3)``: the element copies ``(element, o1, o2)`` that reach cell 0 (found once per scene)."""
+    if scene.lattice is None:
+        copies = np.zeros((len(scene.elements), 3), dtype=np.int64)
+        copies[:, 0] = np.arange(len(scene.elements))
+        return copies
+    return reaching_copies(scene.elements, scene.lattice)
+
+
+def placed_copies(scene):
+    """``(index, element copy, shift)`` for each element copy that reaches cell 0 of ``scene``."""
+    if scene.lattice is None:
+        return [(i, e, np.zeros(2)) for i, e in enumerate(scene.elements)]
+    A, _ = lattice_matrix(scene.lattice)
+    return [(int(i), scene.elements[i].shifted(*(A @ [o1, o2])), A @ [o1, o2]) for i, o1, o2 in scene_copies(scene)]
+
+
+@per_scene
+def kernel_table(scene) -> KernelTable:
+    """The kernel table of ``scene`` as it is written (built on first use, kept while the scene lives)."""
+    elements = scene.elements
+    scale = scene.scale
+    copies = scene_copies(scene)
+    if scene.lattice is None:
+        A = np.zeros((2, 2))
+        B = np.zeros((2, 2))
+    else:
+        A, B = (np.array(m) for m in lattice_matrix(scene.lattice))  # writable: the kernels' argument type
+    placed = placed_copies(scene)
+    kinds, params = _element_arrays(elements, placed, scale)
+    jstart, jpts = junction_arrays(elements, placed, scale)
+    c, s = scene.noslip_coefficients
+    ax, ay = scene.force
+    return KernelTable(
+        kinds=kinds, params=params, copies=copies, A=A, B=B, lattice=scene.lattice is not None,
+        jstart=jstart, jpts=jpts, law=scene.law_code,
+        c=c, s=s, ax=ax, ay=ay, scale=scale, has_force=scene.force != (0.0, 0.0),
+        noslip=scene.law_code == layout.NOSLIP, disk_lattice=_disk_lattice(scene),
+        long_walls=any(flag != 0.0 for flag in params[:, layout.LONG_WALL]))
+
+
+def _element_arrays(elements, placed, scale):
+    """``(kinds, params)``: kinds, parameter rows, end-band factors and long-wall flags."""
+    kinds = np.array([e.kind for e in elements], dtype=np.int64)
+    params = np.zeros((len(elements), layout.N_PARAMS))
+    for i, e in enumerate(elements):
+        row = e.params()
+        params[i, : len(row)] = row
+        if isinstance(e, Segment):  # its own end point, for distances far along it
+            for col, value in e.exact_params().items():
+                params[i, col] = value
+    params[:, layout.END_START:layout.END_END + 1] = end_factors(elements, placed, scale)
+    params[:, layout.LONG_WALL] = long_walls(elements)
+    return kinds, params
+
+
+def long_walls(elements):
+    """1.0 per line and per segment long against the table's smallest feature (``layout.LONG_WALL``), else 0.0.
+
+    Only such a wall can carry a hit far from its ``p0``, where the plain
+    distance cancels; the event loop checks those hits exactly, and a table
+    without one runs a loop compiled without the check.
+    """
+    features = [e.length() if isinstance(e, Segment) else e.radius
+                for e in elements if isinstance(e, (Segment, Circle, Arc))]
+    smallest = min(features, default=math.inf)
+    return [1.0 if isinstance(e, Line) or (isinstance(e, Segment)
+                                           and e.length() > layout.LONG_WALL_RATIO * smallest) else 0.0
+            for e in elements]
+
+
+def _disk_lattice(scene):
+    """A lattice of disjoint disk scatterers without force (Sinai torus, Lorentz gases): the lean loop.
+
+    One or several disks per cell, of any radii, each inside its cell or
+    reaching into neighbouring ones; no two disks (lattice copies included)
+    come within ``DISK_GAP`` of each other (relative to the cell's size).
+    Such disks are convex and never touch, so the loop needs no deflation,
+    corner rule or extent test.
+    """
+    if scene.lattice is None or scene.force != (0.0, 0.0):
+        return False
+    if not all(isinstance(e, Circle) and e.side == "outside" for e in scene.elements):
+        return False
+    A, _ = lattice_matrix(scene.lattice)
+    size = max(scene.scale, float(np.abs(A).sum(axis=1).max()))
+    return disks_apart([(e.center, e.radius) for e in scene.elements], scene.lattice, DISK_GAP * size)

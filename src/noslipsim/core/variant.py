@@ -1,0 +1,70 @@
+"""Kernel variants: the compile-time flags of the event loop, and the number a kernel reports them by.
+
+A variant is the tuple ``(force, spin, lattice, mode, disks, walls)``
+(:func:`loop.orbit_kernel`): each slot ``True``/``False`` (a record mode for
+``mode``), or ``None`` for "read from the arguments at run time".  Every orbit
+kernel returns :func:`report` of the variant it was compiled for, a constant
+of its machine code; the caller compares it with :func:`report` of the variant
+it asked for and refuses a result from any other kernel (a wrong entry in the
+compile cache, however it got there).
+"""
+from .jit import SOURCE_STAMP
+
+#: Names of the slots, in order.
+SLOTS = ("force", "spin", "lattice", "mode", "disks", "walls")
+#: The general path: every flag read at run time.
+GENERAL = (None, None, None, None, None, None)
+#: The record modes a ``mode`` slot may hold (``layout.RECORD_*``).
+MODES = (0, 1, 2)
+
+_RUNTIME = 3  # digit of a slot left to run time
+
+
+def normalise(force=None, spin=None, lattice=None, mode=None, disks=None, walls=None):
+    """The variant as the kernel it selects sees it.
+
+    The disk loop (``disks=True``) has no force, walks a lattice and has no
+    walls whatever the other slots say, so those slots are fixed there.
+    """
+    if disks:
+        return False, _flag(spin), True, _mode(mode), True, False
+    return _flag(force), _flag(spin), _flag(lattice), _mode(mode), False, _flag(walls)
+
+
+def _flag(value):
+    return None if value is None else bool(value)
+
+
+def _mode(value):
+    if value is None:
+        return None
+    if int(value) not in MODES:
+        raise ValueError(f"mode: expected one of {MODES} or None, got {value!r}")
+    return int(value)
+
+
+def variant_code(flags):
+    """The variant (normalised) as a small integer: one base-4 digit per slot."""
+    code = 0
+    for value in normalise(*flags):
+        digit = _RUNTIME if value is None else int(value)
+        code = 4 * code + digit
+    return code
+
+
+def report(flags):
+    """What the kernel of ``flags`` returns: its variant code above the 32-bit core source stamp."""
+    return (variant_code(flags) << 32) | SOURCE_STAMP
+
+
+def describe(reported):
+    """A reported number as text: ``force=True, spin=False, ... (core sources 1a2b3c4d)``."""
+    reported = int(reported)
+    code, stamp = reported >> 32, reported & 0xFFFFFFFF
+    digits = []
+    for _ in SLOTS:
+        digits.append(code % 4)
+        code //= 4
+    parts = [f"{name}={'runtime' if d == _RUNTIME else (d if name == 'mode' else bool(d))}"
+             for name, d in zip(SLOTS, reversed(digits))]
+    return f"{', '.join(parts)} (core sources {stamp:08x})"
