@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, Self
+from typing import Any
 
 import numpy as np
 
@@ -77,7 +77,7 @@ class Line:
         _set(self, point=_floats(point), normal=unit_pair(*normal))
 
     @classmethod
-    def from_dict(cls, d: Mapping[str, Any], where: str = "element") -> Self:
+    def from_dict(cls, d: Mapping[str, Any], where: str = "element") -> Line:
         """Build the element from its scene-file mapping (docs/scenes.md); errors name ``where`` and the field."""
         no_unknown_keys(d, {"type", "point", "normal"}, where)
         return _build(cls, where, point=required(d, "point", where), normal=required(d, "normal", where))
@@ -106,7 +106,7 @@ class Line:
         """``(x0, y0, x1, y1)``: the axis-aligned bounding box (infinite for a line)."""
         return (-math.inf, -math.inf, math.inf, math.inf)
 
-    def shifted(self, dx: float, dy: float) -> Self:
+    def shifted(self, dx: float, dy: float) -> Line:
         """The same element translated by ``(dx, dy)``."""
         return Line((self.point[0] + dx, self.point[1] + dy), self.normal)
 
@@ -131,7 +131,7 @@ class Segment:
         _set(self, p0=_floats(p0), p1=_floats(p1))
 
     @classmethod
-    def from_dict(cls, d: Mapping[str, Any], where: str = "element") -> Self:
+    def from_dict(cls, d: Mapping[str, Any], where: str = "element") -> Segment:
         """Build the element from its scene-file mapping (docs/scenes.md); errors name ``where`` and the field."""
         no_unknown_keys(d, {"type", "p0", "p1", "side"}, where)
         return _build(cls, where, p0=required(d, "p0", where), p1=required(d, "p1", where),
@@ -172,7 +172,7 @@ class Segment:
         return (min(self.p0[0], self.p1[0]), min(self.p0[1], self.p1[1]),
                 max(self.p0[0], self.p1[0]), max(self.p0[1], self.p1[1]))
 
-    def shifted(self, dx: float, dy: float) -> Self:
+    def shifted(self, dx: float, dy: float) -> Segment:
         """The same element translated by ``(dx, dy)``."""
         return Segment((self.p0[0] + dx, self.p0[1] + dy), (self.p1[0] + dx, self.p1[1] + dy), self.side)
 
@@ -207,7 +207,7 @@ class Circle:
         _set(self, center=_floats(center), radius=radius)
 
     @classmethod
-    def from_dict(cls, d: Mapping[str, Any], where: str = "element") -> Self:
+    def from_dict(cls, d: Mapping[str, Any], where: str = "element") -> Circle:
         """Build the element from its scene-file mapping (docs/scenes.md); errors name ``where`` and the field."""
         no_unknown_keys(d, {"type", "center", "radius", "side"}, where)
         return _build(cls, where, center=required(d, "center", where),
@@ -239,7 +239,7 @@ class Circle:
         c, r = self.center, self.radius
         return (c[0] - r, c[1] - r, c[0] + r, c[1] + r)
 
-    def shifted(self, dx: float, dy: float) -> Self:
+    def shifted(self, dx: float, dy: float) -> Circle:
         """The same element translated by ``(dx, dy)``."""
         return Circle((self.center[0] + dx, self.center[1] + dy), self.radius, self.side)
 
@@ -275,7 +275,7 @@ class Arc:
         _set(self, center=_floats(center), radius=radius, theta0=theta0, theta1=theta1)
 
     @classmethod
-    def from_dict(cls, d: Mapping[str, Any], where: str = "element") -> Self:
+    def from_dict(cls, d: Mapping[str, Any], where: str = "element") -> Arc:
         """Build the element from its scene-file mapping (docs/scenes.md); errors name ``where`` and the field."""
         no_unknown_keys(d, {"type", "center", "radius", "theta0", "theta1", "side"}, where)
         return _build(cls, where, center=required(d, "center", where),
@@ -310,7 +310,7 @@ class Arc:
         c, r = self.center, self.radius
         return (c[0] - r, c[1] - r, c[0] + r, c[1] + r)
 
-    def shifted(self, dx: float, dy: float) -> Self:
+    def shifted(self, dx: float, dy: float) -> Arc:
         """The same element translated by ``(dx, dy)``."""
         return Arc((self.center[0] + dx, self.center[1] + dy), self.radius, self.theta0, self.theta1, self.side)
 
