@@ -17,8 +17,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ._version import __version__
 from ._metadata import annotate
+from ._version import __version__
 
 REFERENCES = ("J. Ahmed, T. Chumley, S. Cook, C. Cox, H. Grant, N. Petela, B. Rothrock, R. Xhafaj: "
               "Dynamics of the no-slip Galton board.")
@@ -64,7 +64,7 @@ def _attr(value):
 SOFTWARE = ("numpy", "numba", "llvmlite", "xarray", "netCDF4")
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def provenance() -> dict[str, str | int]:
     """What made a dataset: the software versions and the git state of noslipsim's source.
 
