@@ -98,11 +98,13 @@ def write_chunk(ds, folder, start, stop, inputs):
 
 
 def open_chunks(folder, bounds, dim):
-    """The chunks ``[(start, stop), ...]`` of ``folder`` as one lazy dataset along ``dim`` (dask arrays)."""
+    """The chunks ``[(start, stop), ...]`` of ``folder`` as one lazy dataset along ``dim`` (dask arrays).
+
+    xarray's own (serializable) file locks guard the reads, so the dataset also loads on a
+    distributed cluster whose workers see the folder."""
     paths = [chunk_path(folder, a, b) for a, b in bounds]
     ds = xr.open_mfdataset(paths, combine="nested", concat_dim=dim, data_vars="minimal", coords="minimal",
-                           compat="override", join="exact", combine_attrs="override", engine="netcdf4",
-                           lock=_WRITE_LOCK)
+                           compat="override", join="exact", combine_attrs="override", engine="netcdf4")
     for key in CHUNK_ATTRS:
         ds.attrs.pop(key, None)
     return ds

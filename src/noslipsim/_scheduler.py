@@ -79,8 +79,9 @@ def run_tasks(fn, jobs, on_result, *, scheduler=None, num_workers=None, progress
     ----------
     fn : callable
         A module-level function (it is pickled to the workers of a distributed cluster).
-    jobs : iterable of (hashable, tuple)
-        Consumed lazily: a job's inputs exist only while it is in flight.
+    jobs : iterable of (key, tuple)
+        Consumed lazily: a job's inputs exist only while it is in flight.  A key
+        ``(start, stop)`` names the orbits of a chunk in the messages.
     on_result : callable
         Called in the driver thread, in completion order.
     scheduler : None, str or distributed.Client
@@ -134,11 +135,10 @@ def _run_distributed(client, fn, jobs, on_result, bar):
     """Keep a window of chunks submitted, take them as they complete, report workers that leave while chunks run.
 
     The window follows the cluster's threads (workers started as batch jobs join late)."""
-    from dask.utils import tokenize
-    from distributed import wait
+    import uuid
 
     jobs = iter(jobs)
-    run_id = tokenize(time.time_ns(), os.getpid())[:8]
+    run_id = uuid.uuid4().hex[:8]
     running = {}                                   # future -> chunk key
     names = {}                                     # dask key -> chunk key
 
@@ -151,15 +151,14 @@ def _run_distributed(client, fn, jobs, on_result, bar):
     workers, placed, threads = _cluster_state(client, names)
     top_up(threads)
     while running:
-        try:
-            wait(list(running), timeout=POLL, return_when="FIRST_COMPLETED")
-        except TimeoutError:
-            pass
+        waited = time.monotonic() + POLL          # a future's state is local: looking is cheap
+        while not any(f.done() for f in running) and time.monotonic() < waited:
+            time.sleep(0.01)
         now_workers, now_placed, threads = _cluster_state(client, names)
         for worker in sorted(set(workers) - set(now_workers)):
             lost = sorted(key for key, where in placed.items() if where == worker and _pending(running, key))
-            log.warning("worker %s left the cluster while running chunks %s; the scheduler runs them again "
-                        "on the other workers", worker, ", ".join(map(str, lost)) or "(none)")
+            log.warning("worker %s left the cluster with chunks assigned to it (%s); the scheduler runs them "
+                        "again on the other workers", worker, ", ".join(map(_name, lost)) or "none running")
         workers, placed = now_workers, {**placed, **now_placed}
         for future in [f for f in running if f.done()]:
             key = running.pop(future)
@@ -167,6 +166,11 @@ def _run_distributed(client, fn, jobs, on_result, bar):
             future.release()
             bar.step()
         top_up(threads)
+
+
+def _name(key):
+    """A chunk key ``(start, stop)`` as the orbits it holds."""
+    return f"orbits {key[0]}-{key[1] - 1}" if isinstance(key, tuple) else str(key)
 
 
 def _pending(running, key):

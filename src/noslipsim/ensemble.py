@@ -263,12 +263,11 @@ def simulate_many(scene: Scene, positions, velocities, spins=None, *, max_collis
         size = max(1, math.ceil(n / (4 * (os.cpu_count() or 1)))) if chunk_size is None else chunk_size
         bounds = [(i, min(i + size, n)) for i in range(0, n, size)]
         parts = {}
-        run_tasks(_run_chunk, ((k, (table, starts[i:j], on[i:j], levels[i:j], *tail))
-                               for k, (i, j) in enumerate(bounds)),
+        run_tasks(_run_chunk, (((i, j), (table, starts[i:j], on[i:j], levels[i:j], *tail)) for i, j in bounds),
                   parts.__setitem__, scheduler=scheduler, num_workers=num_workers, progress=progress,
                   total=len(bounds))
-        rec = np.concatenate([parts[k][0] for k in range(len(bounds))])
-        final = np.concatenate([parts[k][1] for k in range(len(bounds))])
+        rec = np.concatenate([parts[b][0] for b in bounds])
+        final = np.concatenate([parts[b][1] for b in bounds])
     _to_user(form, record, rec, final, origins, cells, level)
     return _ensemble_dataset(scene, record, rec, final, run["limits"])
 
