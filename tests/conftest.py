@@ -21,3 +21,22 @@ def ax():
     fig, ax = plt.subplots()
     yield ax
     plt.close(fig)
+
+
+# ---------------------------------------------------------------- the reduced pipeline, built once
+@pytest.fixture(scope="session")
+def cold_cache(tmp_path_factory):
+    """An empty numba cache for the first run, as a new user has it."""
+    return tmp_path_factory.mktemp("numba-cache-a")
+
+
+@pytest.fixture(scope="session")
+def repo(tmp_path_factory, cold_cache):
+    """A copy of the workflow with the reduced run built in it: two jobs at a time, from an empty cache.
+
+    Shared by test_pipeline.py and test_slurm.py (the local run the SLURM runs must reproduce)."""
+    from pipeline_run import snakemake, workflow_copy
+
+    repo = workflow_copy(tmp_path_factory, "pipeline")
+    snakemake(repo, "--cores", "2", cache=cold_cache)
+    return repo

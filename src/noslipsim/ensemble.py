@@ -20,7 +20,7 @@ import xarray as xr
 from ._validate import finite_float
 from ._version import __version__
 from .core import layout
-from .core.batch import F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y, N_FINAL
+from .core.batch import F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y
 from ._engine.canonical import canonical_form
 from ._engine.lattice import cell_of, cell_origin
 from ._engine.run import run_orbits

@@ -1,23 +1,40 @@
 #!/usr/bin/env bash
 # A one-node SLURM cluster on this host, for the tests and for trying the profile without a cluster.
 #
+#   workflow/profiles/slurm/local-slurm.sh install     # apt-get install slurm-wlm munge (root)
 #   workflow/profiles/slurm/local-slurm.sh start DIR   # prints "export SLURM_CONF=DIR/slurm.conf"
 #   workflow/profiles/slurm/local-slurm.sh stop DIR
 #
-# Needs root and Debian's slurm-wlm and munge (apt-get install slurm-wlm munge).  Everything it
+# Needs root and Debian's slurm-wlm and munge (`install`; .ci/run runs it).  Everything it
 # makes lives in DIR: a generated munge key, a private munged (run as the munge user, its own
 # socket), slurm.conf for one node named after this host, slurmctld and slurmd (as root), their
 # logs and state.  The daemons listen on free ports found at start; `start` returns once `sinfo`
 # shows the node idle (or fails with the daemons' logs).  `stop` ends only the daemons whose pid
-# files are in DIR.  The commands see this cluster through SLURM_CONF=DIR/slurm.conf.
+# files are in DIR.  The commands see this cluster through SLURM_CONF=DIR/slurm.conf, and, if the
+# host has no /etc/slurm/slurm.conf, through a link made there (removed by `stop`): Snakemake's
+# job step (snakemake-executor-plugin-slurm-jobstep) drops SLURM_* variables, SLURM_CONF too,
+# before its inner srun, which then reads SLURM's default path.
 set -euo pipefail
 
-usage() { echo "usage: $0 start|stop DIR" >&2; exit 2; }
+usage() { echo "usage: $0 install | start DIR | stop DIR" >&2; exit 2; }
+
+install() {
+    command -v slurmctld >/dev/null && command -v munged >/dev/null && return 0
+    [[ $(id -u) -eq 0 ]] || { echo "local-slurm: installing slurm-wlm and munge needs root" >&2; exit 3; }
+    command -v apt-get >/dev/null || { echo "local-slurm: no apt-get to install slurm-wlm and munge" >&2; exit 3; }
+    apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq slurm-wlm munge >/dev/null
+}
+
+[[ ${1:-} == install && $# -eq 1 ]] && { install; exit 0; }
 [[ $# -eq 2 ]] || usage
 action=$1
 dir=$(realpath -m "$2")
 
+ETC=/etc/slurm/slurm.conf
+
 stop() {
+    [[ -L $ETC && $(readlink "$ETC") == "$dir/slurm.conf" ]] && rm -f "$ETC"
     for name in slurmd slurmctld munged; do
         pidfile="$dir/run/$name.pid"
         [[ -f $pidfile ]] || continue
@@ -47,6 +64,7 @@ start() {
     done
     id munge >/dev/null 2>&1 || { echo "local-slurm: no munge user (apt-get install munge)" >&2; exit 3; }
     mkdir -p "$dir"/{run,log,state,spool,munge,munge-key}
+    runuser -u munge -- test -x "$dir" || { echo "local-slurm: the munge user cannot enter $dir (a private parent folder?)" >&2; exit 3; }
     chmod 755 "$dir" "$dir/run" "$dir/munge"
 
     # munge: a key made now (private folder), a munged of our own with its socket in a folder all can enter
@@ -101,9 +119,15 @@ InactiveLimit=0
 KillWait=5
 MinJobAge=300
 NodeName=$host CPUs=$cpus RealMemory=$mem State=UNKNOWN
-PartitionName=debug Nodes=$host Default=YES MaxTime=INFINITE State=UP
+# short test jobs share the cores (up to 4 per core), as many at once as Snakemake submits
+PartitionName=debug Nodes=$host Default=YES MaxTime=INFINITE State=UP OverSubscribe=FORCE:4
 EOF
     export SLURM_CONF="$dir/slurm.conf"
+    if [[ ! -e $ETC || -L $ETC && ! -e $(readlink "$ETC") ]]; then
+        mkdir -p "$(dirname "$ETC")" && ln -sfn "$SLURM_CONF" "$ETC"
+    elif [[ $(readlink "$ETC") != "$SLURM_CONF" ]]; then
+        echo "local-slurm: $ETC belongs to another cluster: srun inside Snakemake's SLURM jobs will talk to it" >&2
+    fi
     slurmctld -f "$SLURM_CONF" -i || fail "slurmctld did not start"
     slurmd -f "$SLURM_CONF" || fail "slurmd did not start"
     for _ in $(seq 150); do
