@@ -117,18 +117,20 @@ def _run_local(fn, jobs, on_result, threads, bar):
     from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 
     jobs = iter(jobs)
-    with ThreadPoolExecutor(threads) as pool:
-        running = {}
-        for key, args in itertools.islice(jobs, IN_FLIGHT * threads):
-            running[pool.submit(fn, *args)] = key
+    pool = ThreadPoolExecutor(threads)
+    try:
+        running = {pool.submit(fn, *args): key for key, args in itertools.islice(jobs, IN_FLIGHT * threads)}
         while running:
             finished, _ = wait(running, return_when=FIRST_COMPLETED)
             for future in finished:
-                key = running.pop(future)
-                on_result(key, future.result())
+                on_result(running.pop(future), future.result())
                 bar.step()
                 for key, args in itertools.islice(jobs, 1):
                     running[pool.submit(fn, *args)] = key
+    except BaseException:
+        pool.shutdown(wait=True, cancel_futures=True)   # a failed chunk: start no other
+        raise
+    pool.shutdown(wait=True)
 
 
 def _run_distributed(client, fn, jobs, on_result, bar):
@@ -140,7 +142,7 @@ def _run_distributed(client, fn, jobs, on_result, bar):
     jobs = iter(jobs)
     run_id = uuid.uuid4().hex[:8]
     running = {}                                   # future -> chunk key
-    names = {}                                     # dask key -> chunk key
+    names = {}                                     # dask key -> chunk key, of the chunks in flight
 
     def top_up(threads):
         for key, args in itertools.islice(jobs, max(0, IN_FLIGHT * max(1, threads) - len(running))):
@@ -163,6 +165,8 @@ def _run_distributed(client, fn, jobs, on_result, bar):
         for future in [f for f in running if f.done()]:
             key = running.pop(future)
             on_result(key, future.result())      # raises the chunk's error, or KilledWorker after repeated losses
+            names.pop(future.key, None)
+            placed.pop(key, None)
             future.release()
             bar.step()
         top_up(threads)
