@@ -24,10 +24,21 @@ def test_the_schema_declares_every_setting_with_the_package_default():
     ({"dask_schedular": "tcp://127.0.0.1:1"}, "unknown settings.*dask_schedular"),
     ({"dask_cluster": "pbs"}, "dask_cluster: expected one of"),
     ({"dask_cluster": "slurm", "dask_scheduler": "tcp://127.0.0.1:1"}, "not both"),
+    ({"dask_workers": "two"}, "dask_workers: expected a positive integer"),
+    ({"chunk_size": "0"}, "chunk_size: expected a positive integer"),
+    ({"dask_worker_timeout": "-1"}, "dask_worker_timeout: expected a positive number"),
 ])
 def test_bad_settings_fail_with_one_line(runtime, match):
     with pytest.raises(ValueError, match=match):
         runtime_settings(runtime)
+
+
+def test_command_line_strings_are_read_as_numbers_and_null():
+    """snakemake --config 'runtime={dask_workers: 4, chunk_size: null}' gives {'dask_workers': '4', ...}."""
+    got = runtime_settings({"dask_workers": "4", "chunk_size": "null", "dask_worker_timeout": "2.5",
+                            "dask_scheduler": "null"})
+    assert got["dask_workers"] == 4 and got["chunk_size"] is None and got["dask_worker_timeout"] == 2.5
+    assert got["dask_scheduler"] is None
 
 
 def test_no_settings_mean_local_threads_in_memory():

@@ -19,6 +19,7 @@ from __future__ import annotations
 import hashlib
 import json
 import logging
+import math
 import os
 import shutil
 import subprocess
@@ -36,13 +37,35 @@ RUNTIME_DEFAULTS = {
 CLUSTERS = (None, "slurm")
 
 
+#: Settings that are counts, and the one that is a number of seconds.
+COUNTS = ("dask_workers", "dask_worker_cores", "chunk_size")
+SECONDS = ("dask_worker_timeout",)
+
+
+def _value(key, value):
+    """One setting as given; ``snakemake --config 'runtime={...}'`` hands every value over as a string."""
+    if value is None or isinstance(value, str) and value.strip() in ("", "null", "~", "None"):
+        return None
+    if key in COUNTS or key in SECONDS:
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            number = math.nan
+        if not (number > 0 and math.isfinite(number)) or (key in COUNTS and number != int(number)):
+            kind = "a positive integer" if key in COUNTS else "a positive number of seconds"
+            raise ValueError(f"runtime.{key}: expected {kind}, got {value!r}")
+        return int(number) if key in COUNTS else number
+    return value
+
+
 def runtime_settings(runtime=None):
-    """The runtime settings with their defaults; ValueError naming an unknown or conflicting key."""
+    """The runtime settings with their defaults; ValueError naming an unknown, bad or conflicting one."""
     runtime = dict(runtime or {})
     unknown = sorted(set(runtime) - set(RUNTIME_DEFAULTS))
     if unknown:
         raise ValueError(f"runtime: unknown settings {unknown} (known: {sorted(RUNTIME_DEFAULTS)})")
-    out = {**RUNTIME_DEFAULTS, **{k: v for k, v in runtime.items() if v is not None}}
+    given = {k: _value(k, v) for k, v in runtime.items()}
+    out = {**RUNTIME_DEFAULTS, **{k: v for k, v in given.items() if v is not None}}
     if out["dask_cluster"] not in CLUSTERS:
         raise ValueError(f"runtime.dask_cluster: expected one of {CLUSTERS}, got {out['dask_cluster']!r}")
     if out["dask_cluster"] and out["dask_scheduler"]:
@@ -83,7 +106,7 @@ def slurm_cluster(workers=2, *, cores=1, memory="2GiB", walltime="01:00:00", int
                                       capture_output=True, text=True).stdout.strip()
                 raise RuntimeError(f"no dask worker joined within {timeout} s; SLURM jobs: {jobs or 'none'}") from None
             log.warning("dask scheduler %s with %d worker job(s) on SLURM: %s", cluster.scheduler_address, workers,
-                        ", ".join(str(j) for j in cluster.workers))
+                        ", ".join(f"{name} (job {getattr(job, 'job_id', '?')})" for name, job in cluster.workers.items()))
             yield client
         finally:
             client.close()
