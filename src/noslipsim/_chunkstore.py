@@ -100,14 +100,46 @@ def write_chunk(ds, folder, start, stop, inputs):
 def open_chunks(folder, bounds, dim):
     """The chunks ``[(start, stop), ...]`` of ``folder`` as one lazy dataset along ``dim`` (dask arrays).
 
-    xarray's own (serializable) file locks guard the reads, so the dataset also loads on a
-    distributed cluster whose workers see the folder."""
+    No file stays open: each chunk file is opened, read whole and closed by the task that needs
+    it (an open netCDF4/HDF5 file costs about a megabyte, and a dataset over thousands of chunk
+    files kept open would grow with them).  So reading the dataset costs memory for the chunks
+    being read, plus the index coordinate ``dim`` (8 bytes per entry), whatever the number of
+    chunks; it also loads on a distributed cluster whose workers see the folder."""
+    import dask
+    import dask.array as da
+
     paths = [chunk_path(folder, a, b) for a, b in bounds]
-    ds = xr.open_mfdataset(paths, combine="nested", concat_dim=dim, data_vars="minimal", coords="minimal",
-                           compat="override", join="exact", combine_attrs="override", engine="netcdf4")
-    for key in CHUNK_ATTRS:
-        ds.attrs.pop(key, None)
-    return ds
+    with xr.open_dataset(paths[0], engine="netcdf4") as first:
+        meta = {name: (var.dims, var.dtype, dict(var.attrs), var.shape) for name, var in first.variables.items()}
+        attrs = {k: v for k, v in first.attrs.items() if k not in CHUNK_ATTRS}
+    reads = [dask.delayed(_read_chunk, pure=True)(path) for path in paths]
+    data, coords = {}, {dim: np.arange(bounds[0][0], bounds[-1][1])}
+    for name, (dims, dtype, var_attrs, shape) in meta.items():
+        if name == dim:
+            continue
+        axis = dims.index(dim)
+        parts = [da.from_delayed(read[name], shape=shape[:axis] + (b - a,) + shape[axis + 1:], dtype=dtype)
+                 for read, (a, b) in zip(reads, bounds)]
+        (coords if name in first.coords else data)[name] = xr.Variable(dims, da.concatenate(parts, axis=axis),
+                                                                       var_attrs)
+    coords[dim] = xr.Variable(dim, coords[dim], meta[dim][2])
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def _read_chunk(path):
+    """Every variable of one chunk file as numpy arrays; the file is closed on return.
+
+    netCDF/HDF5 is not thread-safe and dask reads chunks from several threads: the read holds
+    xarray's own HDF5 lock (the one its netCDF writes take), so it never overlaps another HDF5
+    call of this process, and goes through netCDF4 directly (xarray would take that lock again).
+    The chunk files hold plain numbers (floats with NaN as fill value, integers), which need no
+    decoding."""
+    import netCDF4
+    from xarray.backends.locks import HDF5_LOCK
+
+    with HDF5_LOCK, netCDF4.Dataset(path) as nc:
+        nc.set_auto_mask(False)
+        return {name: var[...] for name, var in nc.variables.items()}
 
 
 def _atomic_text(path, text):
