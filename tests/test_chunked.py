@@ -74,7 +74,7 @@ def test_a_second_run_computes_nothing_and_a_missing_chunk_only_that(tmp_path, c
 def test_a_folder_of_another_run_is_refused(tmp_path):
     q, v = galton_starts(20)
     ns.simulate_many(GALTON, q, v, chunk_size=10, out=tmp_path, **KW)
-    with pytest.raises(ValueError, match="another run.*max_collisions|limits"):
+    with pytest.raises(ValueError, match=r"another run.*max_collisions|limits"):
         ns.simulate_many(GALTON, q, v, chunk_size=10, out=tmp_path, **{**KW, "max_collisions": 301})
     with pytest.raises(ValueError, match="chunk_size"):
         ns.simulate_many(GALTON, q, v, chunk_size=5, out=tmp_path, **KW)

@@ -1,4 +1,4 @@
-"""Ensembles on a dask.distributed cluster of real processes: the same bits as a local run, a killed worker changes nothing.
+"""Ensembles on dask.distributed worker processes: the same bits as a local run; a killed worker changes nothing.
 
 The cluster is started the way a user starts one (docs/cluster.md): ``dask scheduler`` and two
 ``dask worker`` processes from the shell, all bound to 127.0.0.1.  The oracle is the local

@@ -18,7 +18,6 @@ from pathlib import Path
 
 import pytest
 import xarray as xr
-
 from pipeline_run import ROOT, snakemake, workflow_copy
 
 SCRIPT = ROOT / "workflow" / "profiles" / "slurm" / "local-slurm.sh"

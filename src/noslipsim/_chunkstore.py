@@ -118,8 +118,8 @@ def open_chunks(folder, bounds, dim):
         if name == dim:
             continue
         axis = dims.index(dim)
-        parts = [da.from_delayed(read[name], shape=shape[:axis] + (b - a,) + shape[axis + 1:], dtype=dtype)
-                 for read, (a, b) in zip(reads, bounds)]
+        parts = [da.from_delayed(read[name], shape=(*shape[:axis], b - a, *shape[axis + 1:]), dtype=dtype)
+                 for read, (a, b) in zip(reads, bounds, strict=True)]
         (coords if name in first.coords else data)[name] = xr.Variable(dims, da.concatenate(parts, axis=axis),
                                                                        var_attrs)
     coords[dim] = xr.Variable(dim, coords[dim], meta[dim][2])

@@ -44,7 +44,7 @@ SECONDS = ("dask_worker_timeout",)
 
 def _value(key, value):
     """One setting as given; ``snakemake --config 'runtime={...}'`` hands every value over as a string."""
-    if value is None or isinstance(value, str) and value.strip() in ("", "null", "~", "None"):
+    if value is None or (isinstance(value, str) and value.strip() in ("", "null", "~", "None")):
         return None
     if key in COUNTS or key in SECONDS:
         try:
@@ -105,8 +105,9 @@ def slurm_cluster(workers=2, *, cores=1, memory="2GiB", walltime="01:00:00", int
                 jobs = subprocess.run(["squeue", "-h", "-n", "noslipsim-dask", "-o", "%i %T %r"],
                                       capture_output=True, text=True).stdout.strip()
                 raise RuntimeError(f"no dask worker joined within {timeout} s; SLURM jobs: {jobs or 'none'}") from None
+            jobs = ", ".join(f"{name} (job {getattr(job, 'job_id', '?')})" for name, job in cluster.workers.items())
             log.warning("dask scheduler %s with %d worker job(s) on SLURM: %s", cluster.scheduler_address, workers,
-                        ", ".join(f"{name} (job {getattr(job, 'job_id', '?')})" for name, job in cluster.workers.items()))
+                        jobs)
             yield client
         finally:
             client.close()
