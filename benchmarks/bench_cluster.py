@@ -40,9 +40,10 @@ def scaling(n):
     from noslipsim.experiments import galton_distribution
 
     galton_distribution(20, **SCALING, num_workers=1)  # compile (or load) the kernel first
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     ref = galton_distribution(n, **SCALING, scheduler="sync", chunk_size=max(1, n // 40))
     times = {"local, 1 thread": time.perf_counter() - t0}
+    cpu = time.process_time() - c0                  # one thread: its CPU time, not inflated by other load
     for k in (1, 2):
         with LocalCluster(n_workers=k, threads_per_worker=1, processes=True, host="127.0.0.1",
                           dashboard_address=None) as cluster, Client(cluster) as client:
@@ -53,7 +54,8 @@ def scaling(n):
         assert ds.identical(ref), "a distributed run differs from the local one"
     t1 = times["1 worker process(es)"]
     print(f"ensemble: {n} no-slip Galton particles (10 rows, T = 2000), {max(1, n // 40)} per chunk; "
-          f"mean collisions {float(ref.n_collisions.mean()):.0f}; identical datasets")
+          f"mean collisions {float(ref.n_collisions.mean()):.0f}; identical datasets; local run "
+          f"{cpu:.2f} CPU s = {cpu / n * 1e6:.0f} core-microseconds per particle")
     for name, t in times.items():
         k = 2 if name.startswith("2") else 1
         print(f"  {name:24s} {t:8.2f} s   efficiency T1/(k Tk) = {t1 / (k * t):.2f}")

@@ -182,14 +182,15 @@ def _pending(running, key):
 
 
 def _cluster_state(client, names):
-    """The cluster's workers, ``{chunk key: worker}`` of the chunks they run now, and their threads."""
-    import inspect
+    """The cluster's workers, ``{chunk key: worker}`` of the chunks they run now, and their threads.
 
-    every = {"n_workers": -1} if "n_workers" in inspect.signature(client.scheduler_info).parameters else {}
-    workers = client.scheduler_info(**every)["workers"]
+    Asks the scheduler each time (``Client.nthreads``): ``Client.scheduler_info`` returns a cached
+    identity that the client's periodic refresh may overwrite, between the call and its return,
+    with one that lists no workers, which made every worker look gone."""
+    workers = client.nthreads()
     placed = {}
     for worker, keys in client.processing().items():
         for name in keys:
             if name in names:
                 placed[names[name]] = worker
-    return set(workers), placed, sum(w.get("nthreads", 1) for w in workers.values())
+    return set(workers), placed, sum(workers.values())
