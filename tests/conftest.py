@@ -9,16 +9,21 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 GAMMAS = [0.0, 1e-8, 0.3, 1 / math.sqrt(2), 1.0, 3.0, 100.0]
 
-#: The longest test files (each several minutes from a cold cache, most of it in subprocesses), started
-#: first: pytest-xdist hands whole files to its workers in this order (pyproject: --dist loadfile,
-#: --no-loadscope-reorder), so no long file starts last while the other worker idles.
-LONGEST_FIRST = ["test_pipeline.py", "test_compile_cache.py", "test_slurm.py", "test_docs.py",
+#: The longest test files (each minutes from a cold cache, most of it in subprocesses), started first:
+#: pytest-xdist hands whole groups of tests to its workers in collection order (pyproject: --dist
+#: loadgroup, --no-loadscope-reorder), so no long file starts last while the other worker idles.
+LONGEST_FIRST = ["test_pipeline.py", "test_slurm.py", "test_compile_cache.py", "test_docs.py",
                  "test_distributed.py", "test_explorer_browser.py", "test_ablation.py"]
+#: Files that use another file's session fixture run in its worker: the reduced pipeline is built once.
+SAME_WORKER = {"test_slurm.py": "test_pipeline.py"}
 
 
+@pytest.hookimpl(tryfirst=True)  # before xdist names the groups
 def pytest_collection_modifyitems(items):
     rank = {name: i for i, name in enumerate(LONGEST_FIRST)}
     items.sort(key=lambda item: rank.get(item.path.name, len(rank)))  # stable: the rest keep their order
+    for item in items:  # one group per file (module fixtures are built in one worker)
+        item.add_marker(pytest.mark.xdist_group(SAME_WORKER.get(item.path.name, item.path.name)))
 
 
 @pytest.fixture
@@ -32,3 +37,22 @@ def ax():
     fig, ax = plt.subplots()
     yield ax
     plt.close(fig)
+
+
+# ---------------------------------------------------------------- the reduced pipeline, built once
+@pytest.fixture(scope="session")
+def cold_cache(tmp_path_factory):
+    """An empty numba cache for the first run, as a new user has it."""
+    return tmp_path_factory.mktemp("numba-cache-a")
+
+
+@pytest.fixture(scope="session")
+def repo(tmp_path_factory, cold_cache):
+    """A copy of the workflow with the reduced run built in it: two jobs at a time, from an empty cache.
+
+    Shared by test_pipeline.py and test_slurm.py (the local run the SLURM runs must reproduce)."""
+    from pipeline_run import snakemake, workflow_copy
+
+    repo = workflow_copy(tmp_path_factory, "pipeline")
+    snakemake(repo, "--cores", "2", cache=cold_cache)
+    return repo

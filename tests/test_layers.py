@@ -18,10 +18,11 @@ RANKS = {
     "_engine": 3,                                # scene -> kernels: canonical form, packing, the one call
     "scenes": 4,
     "simulate": 5, "tables": 5, "initial": 5, "theory": 5, "sphere3d": 5, "io": 5,
+    "_chunkstore": 5, "_scheduler": 5,           # chunk files on disk; running chunk tasks (dask lives here)
     "ensemble": 6, "reference": 6,
     "analysis": 7, "plot": 7,                    # side by side: neither imports the other
     "experiments": 8,
-    "cli": 9, "explore": 9, "animate": 9,
+    "cli": 9, "explore": 9, "animate": 9, "cluster": 9,   # cluster: runtime settings -> where ensembles run
 }
 
 

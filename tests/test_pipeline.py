@@ -9,64 +9,19 @@ with properties of its own registers a check in DATASET_CHECKS.
 import hashlib
 import json
 import math
-import os
 import re
-import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
+from pipeline_run import ROOT, snakemake, workflow_copy  # the fixtures cold_cache and repo: conftest.py
 
 from noslipsim.plot import numbers_markdown
 
-ROOT = Path(__file__).resolve().parents[1]
-#: What the workflow needs from the repository (the package itself is installed).
-WORKFLOW_FILES = ["Snakefile", "workflow", "config", ".test/config"]
 GLOBAL_ATTRS = ("title", "source", "history", "references", "config")
 #: Rounding slack for unit vectors and shares.
 TOL = 1e-9
-
-def snakemake(repo, *args, check=True, cache=None):
-    """Run snakemake on the reduced config in ``repo``; returns the completed process.
-
-    ``cache``: the numba cache folder of the run (default: the test session's).
-    """
-    cmd = [sys.executable, "-m", "snakemake", "--directory", ".test", *args]
-    env = dict(os.environ, **({} if cache is None else {"NUMBA_CACHE_DIR": str(cache)}))
-    proc = subprocess.run(cmd, cwd=repo, capture_output=True, text=True, env=env)
-    if check and proc.returncode != 0:
-        raise AssertionError(f"{' '.join(cmd[2:])} failed ({proc.returncode}):\n{proc.stdout[-4000:]}\n"
-                             f"{proc.stderr[-6000:]}")
-    return proc
-
-
-def workflow_copy(tmp_path_factory, name):
-    repo = tmp_path_factory.mktemp(name)
-    for item in WORKFLOW_FILES:
-        src, dst = ROOT / item, repo / item
-        if src.is_dir():
-            shutil.copytree(src, dst)
-        else:
-            dst.parent.mkdir(parents=True, exist_ok=True)
-            shutil.copy2(src, dst)
-    return repo
-
-
-@pytest.fixture(scope="module")
-def cold_cache(tmp_path_factory):
-    """An empty numba cache for the first run, as a new user has it."""
-    return tmp_path_factory.mktemp("numba-cache-a")
-
-
-@pytest.fixture(scope="module")
-def repo(tmp_path_factory, cold_cache):
-    """A copy of the workflow with the reduced run built in it: two jobs at a time, from an empty cache."""
-    repo = workflow_copy(tmp_path_factory, "pipeline")
-    snakemake(repo, "--cores", "2", cache=cold_cache)
-    return repo
 
 
 @pytest.fixture(scope="module")
@@ -373,9 +328,9 @@ def test_numbers_are_gathered_and_rendered(repo):
 
 
 # ---------------------------------------------------------------- parameter tracking, lint, report
-def planned_jobs(repo):
-    """``{rule: count}`` of a dry run."""
-    out = snakemake(repo, "-n", "--cores", "2").stdout
+def planned_jobs(repo, *args):
+    """``{rule: count}`` of a dry run (``args``: more snakemake options)."""
+    out = snakemake(repo, "-n", "--cores", "2", *args).stdout
     jobs = {}
     table = re.search(r"job\s+count\n[-\s]+\n(.*?)\ntotal", out, re.S)
     if table:
@@ -414,10 +369,14 @@ def test_a_classification_threshold_redraws_without_rerunning_a_simulation(repo)
         cfg.write_text(text)
 
 
-def test_runtime_settings_rerun_nothing(repo):
-    """Where the ensembles run is not science: giving a scheduler plans no job."""
-    out = snakemake(repo, "-n", "--cores", "2", "--config", 'runtime={dask_scheduler: "tcp://127.0.0.1:1"}').stdout
-    assert "Nothing to be done" in out or "job count" not in out
+@pytest.mark.parametrize("runtime", [
+    '{dask_scheduler: "tcp://127.0.0.1:1", chunk_size: 7, chunk_folder: results/chunks}',
+    "{dask_cluster: slurm, dask_workers: 4, dask_worker_cores: 2, dask_interface: ib0}",
+])
+def test_runtime_settings_rerun_nothing(repo, runtime):
+    """Where and in what chunks the ensembles run is not science: no setting plans a job (every
+    setting in one of two dry runs: a scheduler address and a SLURM cluster exclude each other)."""
+    assert planned_jobs(repo, "--config", f"runtime={runtime}") == {}
 
 
 def test_lint_is_clean(repo):

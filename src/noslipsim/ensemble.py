@@ -1,17 +1,18 @@
-"""Many orbits at once: validation, chunks scheduled by dask, one compiled call per chunk.
+"""Many orbits at once: validation, chunks run as they complete, one compiled call per chunk.
 
-Dask lives here and only here.  Locally the chunks run on dask's threaded
-scheduler (the kernels release the GIL); pass a ``dask.distributed`` Client or
-scheduler address to run them on a cluster.  Orbits are independent and
-deterministic, so the dataset is identical whatever the chunk size, the
-scheduler or the number of workers.
+Locally the chunks run on a thread pool (the kernels release the GIL); pass a
+``dask.distributed`` Client or scheduler address to run them on a cluster
+(:mod:`noslipsim._scheduler`, where dask lives).  With ``out`` the chunks go to
+disk as they complete (:mod:`noslipsim._chunkstore`) and a killed run resumes.
+Orbits are independent and deterministic, so the dataset is identical whatever
+the chunk size, the scheduler, the number of workers, and whether it went
+through disk.
 """
 from __future__ import annotations
 
 import json
 import math
 import os
-import sys
 from collections.abc import Sequence
 from typing import Any
 
@@ -22,12 +23,14 @@ from numpy.typing import ArrayLike
 from ._validate import finite_float
 from ._version import __version__
 from .core import layout
-from .core.batch import F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y, N_FINAL
+from .core.batch import F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y
 from ._engine.canonical import canonical_form
 from ._engine.lattice import cell_of, cell_origin
 from ._engine.run import run_orbits
 from ._engine.table import kernel_table
+from ._chunkstore import chunk_path, digest, is_done, open_chunks, open_folder, write_chunk
 from ._metadata import annotate
+from ._scheduler import check_scheduler, run_tasks
 from .scenes import Scene
 from .simulate import START_MARGIN, check_limits
 
@@ -135,44 +138,30 @@ def _run_threads(table, starts, on, levels, tail, threads):
     return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
 
 
-def _compute(tasks, scheduler, progress, num_workers=None):
-    """Compute dask tasks on the chosen scheduler; a Client made here from an address is closed here."""
-    import dask
+def _chunk_to_file(run, starts, on, levels, cells, origins, folder, start, stop, inputs):
+    """One chunk computed, turned into its dataset (orbits ``start..stop-1``) and written to ``folder``.
 
-    show = sys.stderr.isatty() if progress is None else bool(progress)
-    if scheduler is None or scheduler in ("threads", "sync", "synchronous"):
-        # num_workers sizes the local thread pool (None: one thread per core)
-        kw = {"num_workers": num_workers} if num_workers is not None and scheduler in (None, "threads") else {}
-        if show:
-            from dask.diagnostics import ProgressBar
-            with ProgressBar(out=sys.stderr):
-                return dask.compute(*tasks, scheduler=scheduler or "threads", **kw)
-        return dask.compute(*tasks, scheduler=scheduler or "threads", **kw)
-    from distributed import Client, progress as dprogress
-
-    if isinstance(scheduler, str):
-        with Client(scheduler, set_as_default=False) as client:
-            return _on_client(client, tasks, show, dprogress)
-    if isinstance(scheduler, Client):
-        return _on_client(scheduler, tasks, show, dprogress)
-    raise ValueError(f"scheduler: expected None, 'threads', 'sync', 'numba', a distributed Client "
-                     f"or a scheduler address, got {scheduler!r}")
-
-
-def _on_client(client, tasks, show, dprogress):
-    futures = client.compute(list(tasks))
-    if show:
-        dprogress(futures)
-    return client.gather(futures)
+    Runs on a worker: ``folder`` must be reachable there (a shared file system on a cluster)."""
+    rec, final = _run_chunk(run["table"], starts, on, levels, *run["tail"])
+    _to_user(run["form"], run["record"], rec, final, origins, cells, run["level"])
+    ds = _ensemble_dataset(run["scene"], run["record"], rec, final, run["limits"], first=start)
+    write_chunk(ds, folder, start, stop, inputs)
+    return stop - start
 
 
 # ---------------------------------------------------------------------------- public API
+#: Default chunk of the on-disk path (``out=``): at most this many orbits ...
+CHUNK_ORBITS = 10_000
+#: ... and at most this many bytes of records (portraits, logs), so memory per chunk is bounded.
+CHUNK_BYTES = 64 * 2**20
+
+
 def simulate_many(scene: Scene, positions: ArrayLike, velocities: ArrayLike, spins: ArrayLike | None = None, *,
                   max_collisions: int = 1000, max_time: float = math.inf, stop_below: float | None = None,
                   record: str = "final", elements: Sequence[int] | None = None,
                   start_elements: ArrayLike | None = None, chunk_size: int | None = None,
                   scheduler: Any = None, progress: bool | None = None,
-                  num_workers: int | None = None) -> xr.Dataset:
+                  num_workers: int | None = None, out: str | os.PathLike | None = None) -> xr.Dataset:
     """Simulate many orbits of one scene.
 
     Parameters
@@ -180,7 +169,10 @@ def simulate_many(scene: Scene, positions: ArrayLike, velocities: ArrayLike, spi
     scene : Scene
         Table, law, gamma and force (plain or periodic).
     positions, velocities : array_like (N, 2)
-        Starts ``(x, y)`` and velocities ``(v_x, v_y)``.
+        Starts ``(x, y)`` and velocities ``(v_x, v_y)``.  With ``out``, any
+        array that slices into blocks (numpy, memmap, dask, zarr; see
+        :class:`noslipsim.initial.UnitVelocities`): only the blocks in flight
+        are in memory.
     spins : array_like (N,), optional
         Scaled spins ``w = gamma R omega`` (CCW positive); zeros by default.
     max_collisions : int
@@ -202,24 +194,36 @@ def simulate_many(scene: Scene, positions: ArrayLike, velocities: ArrayLike, spi
         ``-1`` for interior starts, or the element each orbit starts on
         (boundary initial conditions, see :mod:`noslipsim.initial`).
     chunk_size : int, optional
-        Orbits per dask task (default: about four tasks per core).
+        Orbits per task (default: about four tasks per core; with ``out``,
+        at most :data:`CHUNK_ORBITS` orbits and :data:`CHUNK_BYTES` of records,
+        whatever the machine, so that a resumed run finds the same chunks).
     scheduler : None, str or distributed.Client
         ``None``/'threads' (local threads), 'sync', 'numba' (one compiled call
         per thread, ``num_workers`` threads, no dask), a ``dask.distributed``
         Client or its address.
     progress : bool, optional
-        Show a progress bar (default: only when stderr is a terminal).
+        Progress lines on stderr: chunks done and an ETA (default: only when
+        stderr is a terminal).
     num_workers : int, optional
         Threads of the local threaded scheduler and of ``'numba'`` (default:
         one per core); a workflow job passes the threads it was given.  Ignored
         by the other schedulers.  The results do not depend on it.
+    out : str or path-like, optional
+        A folder: each chunk is written there as a netCDF file as soon as it
+        completes (by the worker that computed it: on a cluster, a folder all
+        workers reach), so memory stays bounded whatever N.  Run again with the
+        same arguments, it computes only the chunks missing (a run killed at
+        any point resumes; the dataset is the same to the bit).  A folder that
+        holds another run's chunks is refused.  The returned dataset reads the
+        chunk files lazily (dask arrays; ``.load()`` reads them all).
 
     Returns
     -------
     xarray.Dataset
         Dim ``orbit`` (and ``point`` or ``collision``); every variable has
         ``long_name`` and ``units``.  ``stop_reason`` is an integer flag with CF
-        ``flag_values``/``flag_meanings``.
+        ``flag_values``/``flag_meanings``.  The same dataset whatever the
+        chunking, the scheduler, the workers, and whether ``out`` is given.
     """
     if not isinstance(scene, Scene):
         raise ValueError(f"scene: expected a noslipsim.Scene, got {type(scene).__name__}")
@@ -231,12 +235,9 @@ def simulate_many(scene: Scene, positions: ArrayLike, velocities: ArrayLike, spi
     if num_workers is not None and (isinstance(num_workers, bool) or not isinstance(num_workers, (int, np.integer))
                                     or num_workers < 1):
         raise ValueError(f"num_workers: must be a positive integer, got {num_workers!r}")
-    q, v, w, on = check_starts(scene, positions, velocities, spins, start_elements)
-    n = len(q)
+    check_scheduler(scheduler)
     max_collisions, max_time = check_limits(max_collisions, max_time)
     level = -math.inf if stop_below is None else finite_float(stop_below, "stop_below")
-    if stop_below is not None and (q[:, 1] <= level).any():
-        raise ValueError(f"stop_below: orbit {int(np.argmax(q[:, 1] <= level))} starts at or below {level}")
     mask = np.zeros(len(scene.elements), dtype=np.bool_)
     if record == "portrait":
         chosen = range(len(scene.elements)) if elements is None else list(elements)
@@ -249,30 +250,100 @@ def simulate_many(scene: Scene, positions: ArrayLike, velocities: ArrayLike, spi
         "portrait": (layout.RECORD_PORTRAIT, max_collisions, layout.N_PORTRAIT),
         "log": (layout.RECORD_LOG, max_collisions, layout.N_LOG),
     }[record]
-
     # the kernels run the canonical form; starts relative to their (canonical) cells
     form = canonical_form(scene)
-    cells, origins, rel = form.kernel_starts(q)
-    starts = np.ascontiguousarray(np.c_[rel, v, w])
-    levels = np.full(n, form.user_level(level)) - origins[:, 1]
-    table = kernel_table(form.scene)
-    tail = (max_collisions, max_time, mode, n_rec, n_cols, mask)
+    run = dict(table=kernel_table(form.scene), tail=(max_collisions, max_time, mode, n_rec, n_cols, mask),
+               form=form, scene=scene, record=record, level=level,
+               limits=dict(max_collisions=max_collisions, max_time=max_time, stop_below=stop_below))
+    if out is not None:
+        return _simulate_to_folder(run, positions, velocities, spins, start_elements, out, chunk_size,
+                                   dict(scheduler=scheduler, progress=progress, num_workers=num_workers))
 
+    q, v, w, on = check_starts(scene, positions, velocities, spins, start_elements)
+    _check_level(q, level, stop_below)
+    n = len(q)
+    cells, origins, starts, levels = _kernel_inputs(form, q, v, w, level)
+    table, tail = run["table"], run["tail"]
     if scheduler == "numba" or n == 0:
         rec, final = _run_threads(table, starts, on, levels, tail, num_workers or os.cpu_count() or 1)
     else:
-        import dask
-
         size = max(1, math.ceil(n / (4 * (os.cpu_count() or 1)))) if chunk_size is None else chunk_size
-        run = dask.delayed(_run_chunk, pure=True)
-        tasks = [run(table, starts[i:i + size], on[i:i + size], levels[i:i + size], *tail)
-                 for i in range(0, n, size)]
-        parts = _compute(tasks, scheduler, progress, num_workers)
-        rec = np.concatenate([p[0] for p in parts]) if parts else np.zeros((0, n_rec, n_cols))
-        final = np.concatenate([p[1] for p in parts]) if parts else np.zeros((0, N_FINAL))
+        bounds = [(i, min(i + size, n)) for i in range(0, n, size)]
+        parts = {}
+        run_tasks(_run_chunk, (((i, j), (table, starts[i:j], on[i:j], levels[i:j], *tail)) for i, j in bounds),
+                  parts.__setitem__, scheduler=scheduler, num_workers=num_workers, progress=progress,
+                  total=len(bounds))
+        rec = np.concatenate([parts[b][0] for b in bounds])
+        final = np.concatenate([parts[b][1] for b in bounds])
     _to_user(form, record, rec, final, origins, cells, level)
-    return _ensemble_dataset(scene, record, rec, final, dict(
-        max_collisions=max_collisions, max_time=max_time, stop_below=stop_below))
+    return _ensemble_dataset(scene, record, rec, final, run["limits"])
+
+
+def _check_level(q, level, stop_below, first=0):
+    if stop_below is not None and (q[:, 1] <= level).any():
+        raise ValueError(f"stop_below: orbit {first + int(np.argmax(q[:, 1] <= level))} starts at or below {level}")
+
+
+def _kernel_inputs(form, q, v, w, level):
+    """Cells, origins, kernel starts ``(x, y, vx, vy, w)`` relative to the canonical cells, and levels."""
+    cells, origins, rel = form.kernel_starts(q)
+    starts = np.ascontiguousarray(np.c_[rel, v, w])
+    levels = np.full(len(q), form.user_level(level)) - origins[:, 1]
+    return cells, origins, starts, levels
+
+
+def _blocks(value, n, field, tail=()):
+    """``value`` as an array that slices into blocks, with ``n`` rows (a list becomes a numpy array)."""
+    if value is None:
+        return None
+    if not (hasattr(value, "shape") and hasattr(value, "__getitem__")):
+        value = np.asarray(value)
+    if tuple(value.shape) != (n, *tail):
+        want = f"({n}{''.join(', ' + str(k) for k in tail)})"
+        raise ValueError(f"{field}: expected shape {want}, got {tuple(value.shape)}")
+    return value
+
+
+def _simulate_to_folder(run, positions, velocities, spins, start_elements, out, chunk_size, how):
+    """:func:`simulate_many` with ``out``: chunks validated, computed and written one by one, resumable."""
+    if not (hasattr(positions, "shape") and hasattr(positions, "__getitem__")):
+        positions = np.asarray(positions, dtype=float)
+    if len(positions.shape) != 2 or positions.shape[1] != 2:
+        raise ValueError(f"positions: expected shape (N, 2), got {tuple(positions.shape)}")
+    n = int(positions.shape[0])
+    velocities = _blocks(velocities, n, "velocities", (2,))
+    spins = _blocks(spins, n, "spins")
+    start_elements = _blocks(start_elements, n, "start_elements")
+    if n == 0:
+        return simulate_many(run["scene"], np.zeros((0, 2)), np.zeros((0, 2)), record=run["record"],
+                             **run["limits"])
+    tail = run["tail"]
+    row_bytes = 8 * max(1, tail[3] * tail[4])
+    size = chunk_size or max(1, min(CHUNK_ORBITS, CHUNK_BYTES // row_bytes))
+    bounds = [(i, min(i + size, n)) for i in range(0, n, size)]
+    folder = os.path.abspath(os.fspath(out))
+    open_folder(folder, {
+        "source": f"noslipsim {__version__}", "scene": run["scene"].to_json(), "record": run["record"],
+        "limits": {k: (None if x is None else float(x)) for k, x in run["limits"].items()},
+        "elements": np.flatnonzero(tail[5]).tolist(), "orbits": n, "chunk_size": size})
+    present = sum(os.path.exists(chunk_path(folder, i, j)) for i, j in bounds)
+
+    def jobs():
+        for i, j in bounds:
+            try:
+                q, v, w, on = check_starts(run["scene"], positions[i:j], velocities[i:j],
+                                           None if spins is None else spins[i:j],
+                                           None if start_elements is None else start_elements[i:j])
+            except ValueError as err:
+                raise ValueError(f"orbits {i}-{j - 1}: {err}") from None
+            _check_level(q, run["level"], run["limits"]["stop_below"], first=i)
+            cells, origins, starts, levels = _kernel_inputs(run["form"], q, v, w, run["level"])
+            inputs = digest(starts, on, levels)
+            if not is_done(folder, i, j, inputs):
+                yield (i, j), (run, starts, on, levels, cells, origins, folder, i, j, inputs)
+
+    run_tasks(_chunk_to_file, jobs(), lambda key, result: None, total=len(bounds), done=present, **how)
+    return open_chunks(folder, bounds, "orbit")
 
 
 def _to_user(form, record, rec, final, origins, cells, level):
@@ -292,7 +363,7 @@ def _to_user(form, record, rec, final, origins, cells, level):
         rec[:, :, layout.LOG_X], rec[:, :, layout.LOG_Y] = form.user_positions(x, y)
 
 
-def _ensemble_dataset(scene, record, rec, final, limits):
+def _ensemble_dataset(scene, record, rec, final, limits, first=0):
     o = ("orbit",)
     n_coll = final[:, F_N].astype(np.int64)
     data = {
@@ -333,7 +404,7 @@ def _ensemble_dataset(scene, record, rec, final, limits):
         if scene.lattice is not None:
             data["cell_a1"] = (cdim, rec[:, :, layout.LOG_CELL_A1])
             data["cell_a2"] = (cdim, rec[:, :, layout.LOG_CELL_A2])
-    ds = xr.Dataset(data, coords={"orbit": np.arange(len(final))})
+    ds = xr.Dataset(data, coords={"orbit": np.arange(first, first + len(final))})
     ds.attrs.update(
         title=f"noslipsim ensemble ({record})",
         source=f"noslipsim {__version__}",

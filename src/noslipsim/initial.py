@@ -41,6 +41,49 @@ def unit_velocities(n, seed=0):
     return np.c_[np.cos(ang), np.sin(ang)]
 
 
+class UnitVelocities:
+    """The rows of :func:`unit_velocities` ``(n, seed)``, made only when sliced: an ``(n, 2)`` array-like.
+
+    ``UnitVelocities(n, seed)[i:j]`` equals ``unit_velocities(n, seed)[i:j]`` bit for bit and costs
+    memory for ``j - i`` rows only, so an ensemble written to disk chunk by chunk
+    (``simulate_many(..., out=...)``) holds the starts of the chunks in flight, not of all ``n``.
+    The generator (PCG64, one 64-bit draw per angle) jumps ahead ``i`` draws instead of making them.
+
+    Parameters
+    ----------
+    n : int
+        Rows.
+    seed : int or numpy.random.SeedSequence
+        As in :func:`unit_velocities` (a Generator is refused: its state cannot be replayed).
+    """
+
+    def __init__(self, n, seed=0):
+        if isinstance(seed, np.random.Generator):
+            raise ValueError("seed: expected an int or a SeedSequence (a Generator's draws cannot be replayed)")
+        self.n, self.seed = _count(n), seed
+        self.shape, self.dtype, self.ndim = (self.n, 2), np.dtype(float), 2
+        if not isinstance(rng_from(seed).bit_generator, np.random.PCG64):
+            raise ValueError("seed: UnitVelocities needs numpy's default PCG64 generator")
+
+    def __len__(self):
+        return self.n
+
+    def __getitem__(self, key):
+        if not isinstance(key, slice):
+            raise TypeError("UnitVelocities: only slices of rows ([i:j]) are supported")
+        start, stop, step = key.indices(self.n)
+        if step != 1:
+            raise TypeError("UnitVelocities: only contiguous slices of rows are supported")
+        rng = rng_from(self.seed)
+        rng.bit_generator.advance(start)
+        ang = rng.uniform(0.0, 2.0 * math.pi, max(0, stop - start))
+        return np.c_[np.cos(ang), np.sin(ang)]
+
+    def __array__(self, dtype=None, copy=None):
+        out = self[:]
+        return out if dtype is None else out.astype(dtype)
+
+
 def uniform_in_region(scene: Scene, n, box, seed=0):
     """``(n, 2)`` positions uniform in ``box = (x0, x1, y0, y1)`` and strictly inside the table."""
     n = _count(n)

@@ -4,10 +4,12 @@ import sys
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 from noslipsim import write_dataset  # noqa: E402
+from noslipsim.cluster import ensemble_options  # noqa: E402
 from noslipsim.experiments import galton_distribution  # noqa: E402
 
 board, run = snakemake.params.board, snakemake.params.run
-ds = galton_distribution(run["n_particles"], gamma=run["gamma"], seed=run["seed"], **board,
-                         scheduler=snakemake.config.get("runtime", {}).get("dask_scheduler"), num_workers=snakemake.threads, progress=True)
-write_dataset(ds, snakemake.output.distribution, config={"galton": {"board": board, "distribution": run}},
-              history=f"snakemake rule {snakemake.rule} (workflow/scripts/galton_distribution.py)")
+with ensemble_options(snakemake.config.get("runtime"), snakemake.threads, name=snakemake.rule,
+                      params={"board": board, "run": run}) as how:
+    ds = galton_distribution(run["n_particles"], gamma=run["gamma"], seed=run["seed"], **board, **how)
+    write_dataset(ds, snakemake.output.distribution, config={"galton": {"board": board, "distribution": run}},
+                  history=f"snakemake rule {snakemake.rule} (workflow/scripts/galton_distribution.py)")

@@ -4,11 +4,12 @@ import sys
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
 from noslipsim import write_dataset  # noqa: E402
+from noslipsim.cluster import ensemble_options  # noqa: E402
 from noslipsim.experiments import sinai_gamma_portraits  # noqa: E402
 
 run = snakemake.params.run
-ds = sinai_gamma_portraits(**run, scheduler=snakemake.config.get("runtime", {}).get("dask_scheduler"),
-                           num_workers=snakemake.threads, progress=True)
+with ensemble_options(snakemake.config.get("runtime"), snakemake.threads) as how:
+    ds = sinai_gamma_portraits(**run, **how)
 write_dataset(ds, snakemake.output.portraits,
               config={"portraits": {"sinai_gamma": run}},
               history=f"snakemake rule {snakemake.rule} (workflow/scripts/portraits_sinai_gamma.py)")

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 import xarray as xr
@@ -46,7 +47,7 @@ def galton_cases(laws, gamma):
 def galton_distribution(n_particles=100_000, *, laws=("specular", "no-slip"), gamma=1 / math.sqrt(2),
                         spacing=2.0, radius=0.5, gravity=1.0, rows=100, max_time=1000.0,
                         start=(1.0, 0.0), max_collisions=10**7, seed=0, chunk_size=None,
-                        scheduler=None, progress=None, num_workers=None):
+                        scheduler=None, progress=None, num_workers=None, out=None):
     r"""Terminal horizontal positions and arrival times on a Galton board (paper, introduction and Figure 3).
 
     Particles start at ``start`` (by default in the gap between two pegs of
@@ -85,6 +86,14 @@ def galton_distribution(n_particles=100_000, *, laws=("specular", "no-slip"), ga
         Seed of the initial directions (:func:`noslipsim.initial.unit_velocities`).
     chunk_size, scheduler, progress, num_workers
         Passed to :func:`noslipsim.simulate_many`.
+    out : str or path-like, optional
+        A folder for the chunk files of each case (``out/specular``,
+        ``out/no-slip-<gamma>``; :func:`noslipsim.simulate_many`): memory stays
+        bounded whatever ``n_particles`` (the starts are made chunk by chunk,
+        :class:`noslipsim.initial.UnitVelocities`), a killed run resumes, and the
+        dataset returned is lazy (dask arrays over the chunk files; writing it
+        with :func:`noslipsim.write_dataset` streams it).  The same values as
+        without ``out``.
 
     Returns
     -------
@@ -104,25 +113,32 @@ def galton_distribution(n_particles=100_000, *, laws=("specular", "no-slip"), ga
     cases = galton_cases(laws, gamma)
     depth = rows * spacing * math.sqrt(3.0) / 2.0
     level = start[1] - depth
-    vel = initial.unit_velocities(n_particles, seed)
-    pos = np.tile(np.asarray(start, float), (n_particles, 1))
-    out = []
+    if out is None:
+        vel = initial.unit_velocities(n_particles, seed)
+        pos = np.tile(np.asarray(start, float), (n_particles, 1))
+    else:  # made chunk by chunk: nothing of size n_particles in memory
+        vel = initial.UnitVelocities(n_particles, seed)
+        pos = np.broadcast_to(np.asarray(start, float), (n_particles, 2))
+    spins = np.broadcast_to(0.0, (n_particles,))
+    parts = []
     for law, g in cases:
         scene = tables.galton_board(spacing, radius, gravity, law=law, gamma=0.0 if law == "specular" else g)
-        ds = simulate_many(scene, pos, vel, np.zeros(n_particles), max_collisions=max_collisions,
+        folder = None if out is None else os.path.join(os.fspath(out), law if law == "specular" else f"{law}-{g!r}")
+        ds = simulate_many(scene, pos, vel, spins, max_collisions=max_collisions,
                            max_time=max_time, stop_below=level, record="final", chunk_size=chunk_size,
-                           scheduler=scheduler, progress=progress, num_workers=num_workers)
-        arrived = ds.stop_reason.values == layout.STOP_LEVEL
-        out.append(xr.Dataset({
-            "x_terminal": ("particle", np.where(arrived, ds.x_final.values - start[0], np.nan)),
-            "t_terminal": ("particle", np.where(arrived, ds.t_final.values, np.nan)),
-            "arrived": ("particle", arrived.astype(np.int8)),
-            "x_end": ("particle", ds.x_final.values - start[0]),
-            "y_end": ("particle", ds.y_final.values - start[1]),
-            "n_collisions": ("particle", ds.n_collisions.values),
-            "stop_reason": ("particle", ds.stop_reason.values, ds.stop_reason.attrs),
+                           scheduler=scheduler, progress=progress, num_workers=num_workers, out=folder)
+        arrived = ds.stop_reason == layout.STOP_LEVEL       # lazy with out: nothing is loaded here
+        dx, dy = ds.x_final - start[0], ds.y_final - start[1]
+        parts.append(xr.Dataset({
+            "x_terminal": ("particle", xr.where(arrived, dx, np.nan).data),
+            "t_terminal": ("particle", xr.where(arrived, ds.t_final, np.nan).data),
+            "arrived": ("particle", arrived.astype(np.int8).data),
+            "x_end": ("particle", dx.data),
+            "y_end": ("particle", dy.data),
+            "n_collisions": ("particle", ds.n_collisions.data),
+            "stop_reason": ("particle", ds.stop_reason.data, ds.stop_reason.attrs),
         }))
-    res = xr.concat(out, dim=xr.DataArray([law for law, _ in cases], dims="law", name="law"))
+    res = xr.concat(parts, dim=xr.DataArray([law for law, _ in cases], dims="law", name="law"))
     res = res.assign_coords(gamma=("law", [g for _, g in cases]))
     res["share_not_arrived"] = 1.0 - res.arrived.mean("particle")
     res.attrs.update(title="Galton board terminal distribution", spacing=spacing, radius=radius,
@@ -142,7 +158,8 @@ def galton_radius_sweep(n_particles=2000, *, radii=(0.85, 0.9, 0.95), laws=("spe
     radii : sequence of float
         Peg radii (increasing), each with ``0 < 2 radius < spacing``.
     laws, gamma, **kwargs
-        As in :func:`galton_distribution` (``radius`` excluded).
+        As in :func:`galton_distribution` (``radius`` excluded; with ``out``,
+        one subfolder ``radius-<r>`` per radius).
 
     Returns
     -------
@@ -155,7 +172,10 @@ def galton_radius_sweep(n_particles=2000, *, radii=(0.85, 0.9, 0.95), laws=("spe
     radii = [float(r) for r in np.atleast_1d(np.asarray(radii, dtype=float))]
     if not radii or np.any(np.diff(radii) <= 0):
         raise ValueError(f"radii: expected increasing peg radii, got {radii}")
-    parts = [galton_distribution(n_particles, laws=laws, gamma=gamma, radius=r, **kwargs) for r in radii]
+    out = kwargs.pop("out", None)
+    parts = [galton_distribution(n_particles, laws=laws, gamma=gamma, radius=r, **kwargs,
+                                 out=None if out is None else os.path.join(os.fspath(out), f"radius-{r!r}"))
+             for r in radii]
     res = xr.concat(parts, dim=xr.DataArray(radii, dims="radius", name="radius"), combine_attrs="drop_conflicts")
     res.attrs["title"] = "Galton board terminal distribution against peg radius"
     return annotate(res)

@@ -1,0 +1,36 @@
+"""Running the figure pipeline in a temporary copy of the repository (test_pipeline.py, test_slurm.py)."""
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+#: What the workflow needs from the repository (the package itself is installed).
+WORKFLOW_FILES = ["Snakefile", "workflow", "config", ".test/config"]
+
+
+def snakemake(repo, *args, check=True, cache=None):
+    """Run snakemake on the reduced config in ``repo``; returns the completed process.
+
+    ``cache``: the numba cache folder of the run (default: the test session's).
+    """
+    cmd = [sys.executable, "-m", "snakemake", "--directory", ".test", *args]
+    env = dict(os.environ, **({} if cache is None else {"NUMBA_CACHE_DIR": str(cache)}))
+    proc = subprocess.run(cmd, cwd=repo, capture_output=True, text=True, env=env)
+    if check and proc.returncode != 0:
+        raise AssertionError(f"{' '.join(cmd[2:])} failed ({proc.returncode}):\n{proc.stdout[-4000:]}\n"
+                             f"{proc.stderr[-6000:]}")
+    return proc
+
+
+def workflow_copy(tmp_path_factory, name):
+    repo = tmp_path_factory.mktemp(name)
+    for item in WORKFLOW_FILES:
+        src, dst = ROOT / item, repo / item
+        if src.is_dir():
+            shutil.copytree(src, dst)
+        else:
+            dst.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(src, dst)
+    return repo
