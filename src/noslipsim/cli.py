@@ -137,17 +137,10 @@ def _plot(args):
 
 
 def _plot_window(scene, x, y):
-    """The orbit's bounding box, joined with the elements' for a plain scene without lines, plus a margin."""
+    """The table's elements (lines by their anchor, lattices by a few cells) and the whole orbit."""
     from . import plot
 
-    x0, x1, y0, y1 = float(x.min()), float(x.max()), float(y.min()), float(y.max())
-    try:
-        a0, a1, b0, b1 = plot.auto_window(scene)
-        x0, x1, y0, y1 = min(x0, a0), max(x1, a1), min(y0, b0), max(y1, b1)
-    except ValueError:  # lines or a lattice: the orbit decides
-        pass
-    pad = 0.1 * max(x1 - x0, y1 - y0, 1e-9 * max(abs(x0), abs(y0), 1.0))
-    return x0 - pad, x1 + pad, y0 - pad, y1 + pad
+    return plot.view_window(scene, (x, y))
 
 
 def _start_errors(func, *args, **kwargs):

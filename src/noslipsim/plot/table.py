@@ -92,6 +92,70 @@ def auto_window(scene):
     return x0 - m, x1 + m, y0 - m, y1 + m
 
 
+def view_window(scene, points=None, *, cells=1, margin=0.1):
+    """A window that shows the table of any scene, and ``points`` with it.
+
+    Plain scenes show every finite element and the anchor point of every
+    infinite line (``point`` in the scene file), so a floor under a peg is in
+    view; a table of lines only shows a square of side ``2 * scene.scale``
+    around their anchors.  Periodic scenes show cell 0 and ``cells`` cells on
+    every side of it.  ``points`` (an orbit's path) are joined in.
+
+    Parameters
+    ----------
+    scene : Scene
+    points : (array_like, array_like), optional
+        ``(x, y)`` to keep in view (non-finite values ignored).
+    cells : int
+        Lattice cells shown on each side of cell 0 (periodic scenes).
+    margin : float
+        Margin added on every side, relative to the larger side of the box.
+
+    Returns
+    -------
+    (x0, x1, y0, y1)
+    """
+    scene = scene_of(scene)
+    corners = []
+    if scene.lattice is not None:
+        A, _ = lattice_matrix(scene.lattice)
+        k = int(cells)
+        for n1 in (-k, k + 1):
+            for n2 in (-k, k + 1):
+                corners.append(A @ np.array([n1 - 0.5, n2 - 0.5]))
+    else:
+        for e in scene.elements:
+            if isinstance(e, Line):
+                corners.append(np.asarray(e.point, float))
+            else:
+                x0, y0, x1, y1 = _tight_box(e)
+                corners += [np.array([x0, y0]), np.array([x1, y1])]
+        if all(isinstance(e, Line) for e in scene.elements):
+            c = np.mean(corners, axis=0)
+            corners += [c - scene.scale, c + scene.scale] if scene.scale > 0 else [c - 1.0, c + 1.0]
+    pts = np.array(corners, float).reshape(-1, 2)
+    if points is not None:
+        px, py = (np.asarray(a, float).ravel() for a in points)
+        ok = np.isfinite(px) & np.isfinite(py)
+        pts = np.concatenate([pts, np.c_[px[ok], py[ok]]])
+    x0, y0 = pts.min(axis=0)
+    x1, y1 = pts.max(axis=0)
+    pad = margin * max(x1 - x0, y1 - y0, 1e-9 * max(abs(x0), abs(y0), 1.0))
+    return float(x0 - pad), float(x1 + pad), float(y0 - pad), float(y1 + pad)
+
+
+def _tight_box(e):
+    """The bounding box of an element; an arc's is its ends and the axis points it passes through."""
+    if not isinstance(e, Arc):
+        return e.bbox()
+    span = (e.theta1 - e.theta0) % (2 * math.pi) or 2 * math.pi
+    angles = [e.theta0, e.theta0 + span] + [k * math.pi / 2 for k in range(8)
+                                             if 0.0 <= (k * math.pi / 2 - e.theta0) % (2 * math.pi) <= span]
+    xs = [e.center[0] + e.radius * math.cos(a) for a in angles]
+    ys = [e.center[1] + e.radius * math.sin(a) for a in angles]
+    return min(xs), min(ys), max(xs), max(ys)
+
+
 def _clip_half_plane(box, point, normal):
     """The part of the window on the wall side of a line (``(p - point) . normal <= 0``), as a polygon."""
     x0, x1, y0, y1 = box
