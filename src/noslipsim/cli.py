@@ -201,11 +201,9 @@ COMMANDS = {"simulate": _simulate, "plot": _plot, "run": _run_experiment}
 # ---------------------------------------------------------------------------- entry point
 def _one_line(err):
     """The message of an error on one line (an OSError as ``path: reason``)."""
-    if isinstance(err, OSError) and err.filename is not None and err.strerror:
-        text = f"{err.filename}: {err.strerror}"
-    else:
-        text = str(err) or type(err).__name__
-    return " ".join(text.split())
+    from ._validate import one_line
+
+    return one_line(err)
 
 
 def main(argv=None):

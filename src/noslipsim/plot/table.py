@@ -285,3 +285,49 @@ def draw_table(ax, scene, window=None, *, wall_color=WALL_COLOR, scatterer_color
     ax.set_ylim(y0, y1)
     ax.set_aspect("equal")
     return box
+
+
+#: Points per full turn when a circle or an arc is given as a polyline (:func:`table_shapes`).
+CURVE_POINTS = 180
+
+
+def table_shapes(scene, window):
+    """The table in ``window`` as plain polylines, for drawing libraries other than matplotlib.
+
+    Parameters
+    ----------
+    scene : Scene
+    window : (x0, x1, y0, y1)
+        The region shown; a periodic scene gives every copy meeting it.
+
+    Returns
+    -------
+    dict
+        ``walls``: list of ``(xs, ys)`` polylines (segments, arcs, containers,
+        the visible chord of each infinite line); ``discs``: list of
+        ``(x, y, r)`` scatterers (the table outside them); ``shades``: list of
+        ``(xs, ys)`` polygons, the part of the window behind each infinite line.
+    """
+    scene = scene_of(scene)
+    box = _window(window)
+    walls, discs, shades = [], [], []
+    for e, dx, dy in _copies(scene, box):
+        if isinstance(e, Line):
+            p = (e.point[0] + dx, e.point[1] + dy)
+            shade = _clip_half_plane(box, p, e.normal)
+            if len(shade) >= 3:
+                shades.append(([q[0] for q in shade], [q[1] for q in shade]))
+            seg = _clip_line(box, p, (-e.normal[1], e.normal[0]))
+            if seg is not None:
+                walls.append(([seg[0][0], seg[1][0]], [seg[0][1], seg[1][1]]))
+        elif isinstance(e, Segment):
+            walls.append(([e.p0[0] + dx, e.p1[0] + dx], [e.p0[1] + dy, e.p1[1] + dy]))
+        elif isinstance(e, Circle) and e.side == "outside":
+            discs.append((e.center[0] + dx, e.center[1] + dy, e.radius))
+        else:  # a container circle or an arc
+            t0 = 0.0 if isinstance(e, Circle) else e.theta0
+            span = 2 * math.pi if isinstance(e, Circle) else (e.theta1 - e.theta0) % (2 * math.pi) or 2 * math.pi
+            a = t0 + np.linspace(0.0, span, max(8, int(CURVE_POINTS * span / (2 * math.pi))))
+            walls.append(((e.center[0] + dx + e.radius * np.cos(a)).tolist(),
+                          (e.center[1] + dy + e.radius * np.sin(a)).tolist()))
+    return {"walls": walls, "discs": discs, "shades": shades}

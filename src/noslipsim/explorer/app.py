@@ -1,0 +1,302 @@
+"""The explorer's page: a Bokeh table and portrait side by side, Panel controls, a periodic frame callback.
+
+The page is a view of one :class:`~noslipsim.explorer.session.Explorer`:
+clicks and drags become launches, controls become calls, and a periodic
+callback (every ``1 / fps`` seconds while playing) advances the clock and
+pushes only what changed: particle positions, trails, and the new portrait
+points (streamed, the oldest dropped past :data:`MAX_PORTRAIT_POINTS`).
+HoloViz Panel serves it (``noslipsim explore``) or shows it in a notebook
+(:func:`noslipsim.explore`); every drawing is Bokeh's, every number the
+package's kernel's.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import panel as pn
+from bokeh import events
+from bokeh.models import Arrow, ColumnDataSource, CustomJS, Label, Range1d, VeeHead
+from bokeh.plotting import figure
+
+from ..plot import table_shapes
+from .session import Explorer, Limits
+
+__all__ = ["ExplorerApp", "error_page"]
+
+#: Portrait points kept in the page (older ones are dropped).
+MAX_PORTRAIT_POINTS = 200_000
+#: Frames per second of the periodic callback.
+FPS = 30
+#: Longest wall-clock step of one frame (a stalled frame does not jump the clock).
+MAX_FRAME_SECONDS = 0.2
+#: Size of each figure in pixels.
+FIGURE_SIZE = 460
+
+_COUNTER = "window.noslipsimFrames = (window.noslipsimFrames || 0) + 1;"
+
+
+def error_page(message):
+    """The page shown when the scene cannot be loaded: the CLI's one line, nothing else."""
+    return pn.Column(pn.pane.Alert(message, alert_type="danger", name="error"), sizing_mode="stretch_width")
+
+
+class ExplorerApp:
+    """One page: figures, controls and the frame loop around an :class:`Explorer`.
+
+    Parameters
+    ----------
+    scene : Scene
+    title : str
+        Shown above the controls (the scene file's name).
+    limits : Limits, optional
+    fps : int
+        Frames per second while playing.
+    """
+
+    def __init__(self, scene, title="noslipsim explorer", limits: Limits | None = None, fps=FPS):
+        self.model = Explorer(scene, limits)
+        self.fps = int(fps)
+        self._last = None
+        self._drag = None
+        self._callback = None
+        self.table = self._table_figure()
+        self.phase = self._portrait_figure()
+        self._controls(title)
+        self.layout = pn.Row(pn.Column(self.table, self.readout), pn.Column(self.phase, self.alert),
+                             self.sidebar, name="noslipsim explorer")
+        self.push(self.model.frame())
+
+    # ------------------------------------------------------------------ figures
+    def _table_figure(self):
+        m = self.model
+        x0, x1, y0, y1 = m.window
+        fig = figure(width=FIGURE_SIZE, height=FIGURE_SIZE, match_aspect=True, tools="tap,wheel_zoom,reset,save",
+                     x_range=Range1d(x0, x1), y_range=Range1d(y0, y1), title="table: drag to launch a beam",
+                     name="table")
+        fig.toolbar.logo = None
+        shapes = table_shapes(m.scene, m.window)
+        if shapes["shades"]:
+            fig.patches([s[0] for s in shapes["shades"]], [s[1] for s in shapes["shades"]], color="#cccccc",
+                        alpha=0.5, line_color=None)
+        if shapes["discs"]:
+            fig.circle([d[0] for d in shapes["discs"]], [d[1] for d in shapes["discs"]],
+                       radius=[d[2] for d in shapes["discs"]], fill_color="#bfbfbf", line_color="#404040")
+        if shapes["walls"]:
+            fig.multi_line([w[0] for w in shapes["walls"]], [w[1] for w in shapes["walls"]], line_color="#404040",
+                           line_width=2)
+        self.trails = ColumnDataSource({"xs": [], "ys": [], "color": [], "alpha": []})
+        fig.multi_line("xs", "ys", line_color="color", line_alpha="alpha", line_width=1.5, source=self.trails)
+        self.particles = ColumnDataSource({"x": [], "y": [], "mx": [], "my": [], "color": [], "orbit": []})
+        self.particles.js_on_change("data", CustomJS(code=_COUNTER))
+        fig.circle("x", "y", radius=m.radius, fill_color="color", fill_alpha=0.45, line_color="color",
+                   source=self.particles)
+        fig.segment("x", "y", "mx", "my", line_color="black", line_width=1.5, source=self.particles)
+        self.launch_point = ColumnDataSource({"x": [], "y": []})
+        fig.scatter("x", "y", marker="triangle", size=11, color="#d62728", source=self.launch_point)
+        self.arrow = Arrow(end=VeeHead(size=10), line_width=2, line_color="#2ca02c", x_start=0, y_start=0,
+                           x_end=0, y_end=0, visible=False)
+        fig.add_layout(self.arrow)
+        self.arrow_label = Label(x=0, y=0, text="", text_font_size="10pt", text_color="#2ca02c", visible=False)
+        fig.add_layout(self.arrow_label)
+        fig.on_event(events.Tap, self._on_table_tap)
+        fig.on_event(events.PanStart, self._on_pan_start)
+        fig.on_event(events.PanEnd, self._on_pan_end)
+        return fig
+
+    def _portrait_figure(self):
+        x0, x1, y0, y1 = self._portrait_box()
+        fig = figure(width=FIGURE_SIZE, height=FIGURE_SIZE, tools="tap,wheel_zoom,box_zoom,reset,save",
+                     match_aspect=self.model.portrait == "velocity",
+                     x_range=Range1d(x0, x1), y_range=Range1d(y0, y1), name="portrait")
+        fig.toolbar.logo = None
+        a = [2 * math.pi * k / 360 for k in range(361)]
+        self.disk = fig.line([math.cos(t) for t in a], [math.sin(t) for t in a], line_color="#808080")
+        self.points = ColumnDataSource({"x": [], "y": [], "color": []})
+        fig.scatter("x", "y", size=2.5, color="color", line_color=None, source=self.points)
+        fig.on_event(events.Tap, self._on_portrait_tap)
+        self._label_portrait(fig)
+        return fig
+
+    def _portrait_box(self):
+        x0, x1, y0, y1 = self.model.portrait_range()
+        pad = 0.03 * (x1 - x0)
+        return x0 - pad, x1 + pad, y0 - 0.03 * (y1 - y0), y1 + 0.03 * (y1 - y0)
+
+    def _label_portrait(self, fig):
+        if self.model.portrait == "velocity":
+            fig.title.text = "velocity portrait (v_t, w): click to launch from the red mark"
+            fig.xaxis.axis_label, fig.yaxis.axis_label = "v_t", "w"
+        else:
+            fig.title.text = "Birkhoff portrait (s, sin alpha): click to launch"
+            fig.xaxis.axis_label, fig.yaxis.axis_label = "s (boundary arclength)", "p = sin(alpha)"
+        self.disk.visible = self.model.portrait == "velocity"
+
+    # ------------------------------------------------------------------ controls
+    def _controls(self, title):
+        m = self.model
+        lim = m.limits
+        self.play = pn.widgets.Toggle(name="play / pause", button_type="primary", value=False)
+        self.step_button = pn.widgets.Button(name="step (next collision)")
+        self.reset_button = pn.widgets.Button(name="reset", button_type="warning")
+        self.speed = pn.widgets.EditableFloatSlider(name="speed (time units per second)", start=0.1, end=100.0,
+                                                    step=0.1, value=1.0, fixed_start=0.01, fixed_end=lim.max_speed)
+        self.law = pn.widgets.RadioButtonGroup(name="law", options=["no-slip", "specular"], value=m.scene.law)
+        self.gamma = pn.widgets.EditableFloatSlider(name="gamma", start=0.0, end=3.0, step=0.01,
+                                                    value=round(m.scene.gamma, 4), fixed_start=0.0, fixed_end=100.0)
+        self.force = pn.widgets.EditableFloatSlider(name="force strength", start=0.0, end=5.0, step=0.05,
+                                                    value=round(m.force_strength, 4), fixed_start=0.0,
+                                                    fixed_end=1.0e3)
+        self.count = pn.widgets.IntSlider(name="particles per launch", start=1, end=lim.max_beam, value=1)
+        self.launch_speed = pn.widgets.FloatInput(name="launch speed", value=1.0, start=1e-6, step=0.1)
+        self.angle = pn.widgets.FloatSlider(name="tap direction (degrees)", start=-180.0, end=180.0, step=1.0,
+                                            value=60.0)
+        total = self._boundary_length() or 1.0  # a table of lines only: no boundary point to launch from
+        self.s_launch = pn.widgets.FloatSlider(name="launch point s (velocity portrait)", start=0.0, end=total,
+                                               step=total / 1000, value=0.5 * total)
+        self.readout = pn.pane.Markdown("", name="readout", sizing_mode="stretch_width")
+        self.alert = pn.pane.Alert("", alert_type="warning", visible=False, name="message")
+        self.play.param.watch(self._on_play, "value")
+        self.step_button.on_click(lambda _: self._guard(lambda: self.push(self.model.step())))
+        self.reset_button.on_click(lambda _: self._guard(self._reset))
+        self.speed.param.watch(lambda e: self._guard(lambda: self.model.set_speed(e.new)), "value")
+        self.law.param.watch(lambda e: self._guard(lambda: self._physics(law=e.new)), "value")
+        self.gamma.param.watch(lambda e: self._guard(lambda: self._physics(gamma=e.new)), "value")
+        self.force.param.watch(lambda e: self._guard(lambda: self._physics(force_strength=e.new)), "value")
+        self.s_launch.param.watch(lambda e: self._show_launch_point(), "value")
+        self._show_launch_point()
+        self.sidebar = pn.Column(pn.pane.Markdown(f"### {title}"), self.play, pn.Row(self.step_button,
+                                 self.reset_button), self.speed, self.law, self.gamma, self.force, self.count,
+                                 self.launch_speed, self.angle, self.s_launch, width=320)
+        for w in (self.speed, self.gamma, self.force, self.count, self.launch_speed, self.angle, self.s_launch):
+            w.width = 290
+
+    def _boundary_length(self):
+        from ..analysis.log_portrait import boundary_length
+
+        try:
+            return boundary_length(self.model.scene)
+        except ValueError:  # a table of infinite lines only
+            return None
+
+    def _show_launch_point(self):
+        """The boundary point a click in the velocity portrait launches from, as a red mark in the table."""
+        from ..analysis.portraits import reduced_states
+        from ..analysis.log_portrait import portrait_elements
+
+        m = self.model
+        if m.portrait != "velocity" or self._boundary_length() is None:
+            self.launch_point.data = {"x": [], "y": []}
+            return
+        st = reduced_states(m.scene, [self.s_launch.value], [0.0], [0.0], elements=portrait_elements(m.scene))
+        x, y = st["positions"][0]
+        self.launch_point.data = {"x": [float(x)], "y": [float(y)]}
+
+    # ------------------------------------------------------------------ events
+    def _guard(self, action):
+        """Run a request; a refused one shows its one-line reason on the page instead of failing."""
+        try:
+            action()
+            self._say(self.model.message)
+            return True
+        except ValueError as err:
+            self._say(str(err))
+            return False
+
+    def _say(self, text):
+        self.alert.object = text
+        self.alert.visible = bool(text)
+
+    def _on_table_tap(self, event):
+        a = math.radians(self.angle.value)
+        end = (event.x + math.cos(a), event.y + math.sin(a))
+        self._guard(lambda: self._launched(self.model.launch_beam((event.x, event.y), end, n=self.count.value,
+                                                                  speed=self.launch_speed.value)))
+
+    def _on_pan_start(self, event):
+        self._drag = (event.x, event.y)
+
+    def _on_pan_end(self, event):
+        if self._drag is None:
+            return
+        start, self._drag = self._drag, None
+        self._guard(lambda: self._launched(self.model.launch_beam(start, (event.x, event.y), n=self.count.value,
+                                                                  speed=self.launch_speed.value)))
+
+    def _on_portrait_tap(self, event):
+        self._guard(lambda: self._launched([self.model.launch_from_portrait(
+            event.x, event.y, speed=self.launch_speed.value, s_launch=self.s_launch.value)]))
+
+    def _launched(self, orbits):
+        self.push(self.model.frame())
+        if not self.play.value:
+            self.play.value = True
+
+    def _physics(self, **change):
+        old = self.model.portrait
+        self.model.set_physics(**change)
+        self.points.data = {"x": [], "y": []} | {"color": []}
+        if self.model.portrait != old:
+            x0, x1, y0, y1 = self._portrait_box()
+            self.phase.x_range.start, self.phase.x_range.end = x0, x1
+            self.phase.y_range.start, self.phase.y_range.end = y0, y1
+            self._label_portrait(self.phase)
+            self._show_launch_point()
+        self.push(self.model.frame())
+
+    def _reset(self):
+        self.model.reset()
+        self.points.data = {"x": [], "y": [], "color": []}
+        self.push(self.model.frame())
+
+    def _on_play(self, event):
+        if event.new:
+            self._last = time.perf_counter()
+            if self._callback is None:
+                self._callback = pn.state.add_periodic_callback(self.tick, period=int(1000 / self.fps))
+            else:
+                self._callback.start()
+        elif self._callback is not None:
+            self._callback.stop()
+
+    # ------------------------------------------------------------------ frames
+    def tick(self):
+        """One frame: advance the clock by the wall time since the last frame (at most MAX_FRAME_SECONDS)."""
+        now = time.perf_counter()
+        dt = 0.0 if self._last is None else min(now - self._last, MAX_FRAME_SECONDS)
+        self._last = now
+        self.push(self.model.advance(dt))
+
+    def push(self, frame):
+        """Send a frame to the page: replace particles and trails, stream the new portrait points."""
+        p = frame["particles"]
+        self.particles.data = p
+        self.trails.data = frame["trails"]
+        if frame["portrait"]["x"]:
+            self.points.stream(frame["portrait"], rollover=MAX_PORTRAIT_POINTS)
+        self._draw_force()
+        r = frame["readout"]
+        reasons = ", ".join(f"{k}: {v}" for k, v in sorted(r["stop_reasons"].items())) or "none"
+        m = self.model
+        self.readout.object = (
+            f"**t** = {r['clock']:.4g} &nbsp; **orbits** {r['orbits']} &nbsp; **collisions** {r['collisions']}  \n"
+            f"**energy** {r['energy']:.10g} &nbsp; **relative energy error** {r['energy_error']:.2e}  \n"
+            f"**stop reasons** {reasons}  \n"
+            f"{m.scene.law}, gamma = {m.scene.gamma:.4g}, force = ({m.scene.force[0]:.3g}, {m.scene.force[1]:.3g})")
+
+    def _draw_force(self):
+        m = self.model
+        x0, x1, y0, y1 = m.window
+        size = 0.12 * max(x1 - x0, y1 - y0)
+        strength = m.force_strength
+        visible = strength > 0.0
+        self.arrow.visible = self.arrow_label.visible = visible
+        if not visible:
+            return
+        length = size * min(1.0, 0.5 + 0.5 * math.tanh(strength - 1.0))
+        cx, cy = x1 - 0.6 * size, y1 - 0.6 * size
+        dx, dy = m.force_direction
+        self.arrow.x_start, self.arrow.y_start = cx - 0.5 * length * dx, cy - 0.5 * length * dy
+        self.arrow.x_end, self.arrow.y_end = cx + 0.5 * length * dx, cy + 0.5 * length * dy
+        self.arrow_label.x, self.arrow_label.y = x1 - 1.5 * size, y1 - 0.15 * size
+        self.arrow_label.text = f"force {strength:.3g}"
