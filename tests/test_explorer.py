@@ -144,9 +144,9 @@ def test_the_frame_streams_each_collision_once_and_steps_land_on_the_wall():
         sent += len(frame["portrait"]["x"])
         p = frame["particles"]
         assert abs(BOX.depth(np.array([[p["x"][0], p["y"][0]]]))[0]) < 1e-12  # drawn on the wall it hits
-    assert sent == 5 == frame["readout"]["collisions"]
+    assert sent == 5 == ex.readout()["collisions"]
     np.testing.assert_array_equal(frame["portrait"]["x"], o.marks[0][4:5])
-    assert frame["readout"]["energy_error"] < 1e-14
+    assert ex.readout()["energy_error"] < 1e-14
 
 
 def test_changing_the_law_recomputes_the_orbits_and_switches_the_portrait():
@@ -171,8 +171,8 @@ def test_a_periodic_scene_is_drawn_folded_into_cell_zero():
     frame = ex.advance(1.0)
     x, y = frame["particles"]["x"][0], frame["particles"]["y"][0]
     assert -0.5 <= x <= 0.5 and -0.5 <= y <= 0.5
-    xs = np.concatenate([np.asarray(t, float) for t in frame["trails"]["xs"]])
-    assert np.nanmax(np.abs(xs)) <= 0.5 + 1e-12
+    t = frame["trails"]
+    assert len(t["x0"]) > 0 and np.max(np.abs(t["x0"])) <= 0.5 and np.max(np.abs(t["y0"])) <= 0.5
 
 
 def test_the_server_accepts_only_its_own_origin_and_reads_only_its_scene(tmp_path, capsys):
@@ -187,3 +187,17 @@ def test_the_server_accepts_only_its_own_origin_and_reads_only_its_scene(tmp_pat
     assert scene is None
     assert main(["simulate", str(bad), "--position", "0", "0", "--velocity", "1", "0"]) == 2
     assert error == capsys.readouterr().err.strip()  # the page shows the CLI's line
+
+
+def test_the_portrait_raster_paints_each_point_at_its_pixel_in_its_colour():
+    from noslipsim.explorer.raster import PortraitRaster
+
+    r = PortraitRaster((-1.0, 1.0, -1.0, 1.0), ["#ff0000", "#00ff00"], size=10, dot=1)
+    r.paint([-0.95, 0.55, 0.0, 5.0], [-0.95, 0.05, 0.99, 0.0], [0, 1, 0, 1])  # the last lies outside: dropped
+    assert r.points == 3 and np.count_nonzero(r.image) == 3
+    red, green = 0xFF0000FF, 0xFF00FF00  # RGBA bytes little-endian: R in the lowest byte
+    assert r.image[0, 0] == red and r.image[5, 7] == green and r.image[9, 5] == red
+    r.paint([0.55], [0.05], [0])  # the latest point is on top
+    assert r.image[5, 7] == red
+    r.clear()
+    assert r.points == 0 and not r.image.any()

@@ -4,7 +4,7 @@ The page is a view of one :class:`~noslipsim.explorer.session.Explorer`:
 clicks and drags become launches, controls become calls, and a periodic
 callback (every ``1 / fps`` seconds while playing) advances the clock and
 pushes only what changed: particle positions, trails, and the new portrait
-points (streamed, the oldest dropped past :data:`MAX_PORTRAIT_POINTS`).
+points, painted into the portrait's image (:mod:`.raster`) and sent a few times a second.
 HoloViz Panel serves it (``noslipsim explore``) or shows it in a notebook
 (:func:`noslipsim.explore`); every drawing is Bokeh's, every number the
 package's kernel's.
@@ -18,18 +18,21 @@ import panel as pn
 from bokeh import events
 from bokeh.models import Arrow, ColumnDataSource, CustomJS, Label, Range1d, VeeHead
 from bokeh.plotting import figure
+from bokeh.transform import linear_cmap
 
 from ..plot import table_shapes
-from .session import Explorer, Limits
+from .raster import PortraitRaster
+from .session import PALETTE_SIZE, Explorer, Limits, palette
 
 __all__ = ["ExplorerApp", "error_page"]
 
-#: Portrait points kept in the page (older ones are dropped).
-MAX_PORTRAIT_POINTS = 200_000
 #: Frames per second of the periodic callback.
 FPS = 30
 #: Longest wall-clock step of one frame (a stalled frame does not jump the clock).
 MAX_FRAME_SECONDS = 0.2
+#: Readout and portrait updates per second while playing.
+READOUT_HZ = 4
+PORTRAIT_HZ = 5
 #: Size of each figure in pixels.
 FIGURE_SIZE = 460
 
@@ -56,7 +59,12 @@ class ExplorerApp:
 
     def __init__(self, scene, title="noslipsim explorer", limits: Limits | None = None, fps=FPS):
         self.model = Explorer(scene, limits)
+        # orbit i in colour i % PALETTE_SIZE: one small int column instead of a string per point
+        self.colors = linear_cmap("ci", palette(), -0.5, PALETTE_SIZE - 0.5)
         self.fps = int(fps)
+        self._readout_at = 0.0
+        self._portrait_at = 0.0
+        self._dirty = False
         self._last = None
         self._drag = None
         self._callback = None
@@ -85,11 +93,12 @@ class ExplorerApp:
         if shapes["walls"]:
             fig.multi_line([w[0] for w in shapes["walls"]], [w[1] for w in shapes["walls"]], line_color="#404040",
                            line_width=2)
-        self.trails = ColumnDataSource({"xs": [], "ys": [], "color": [], "alpha": []})
-        fig.multi_line("xs", "ys", line_color="color", line_alpha="alpha", line_width=1.5, source=self.trails)
-        self.particles = ColumnDataSource({"x": [], "y": [], "mx": [], "my": [], "color": [], "orbit": []})
+        self.trails = ColumnDataSource({k: [] for k in ("x0", "y0", "x1", "y1", "ci", "alpha")})
+        fig.segment("x0", "y0", "x1", "y1", line_color=self.colors, line_alpha="alpha", line_width=1.5,
+                    source=self.trails)
+        self.particles = ColumnDataSource({k: [] for k in ("x", "y", "mx", "my", "ci")})
         self.particles.js_on_change("data", CustomJS(code=_COUNTER))
-        fig.circle("x", "y", radius=m.radius, fill_color="color", fill_alpha=0.45, line_color="color",
+        fig.circle("x", "y", radius=m.radius, fill_color=self.colors, fill_alpha=0.45, line_color=self.colors,
                    source=self.particles)
         fig.segment("x", "y", "mx", "my", line_color="black", line_width=1.5, source=self.particles)
         self.launch_point = ColumnDataSource({"x": [], "y": []})
@@ -112,8 +121,11 @@ class ExplorerApp:
         fig.toolbar.logo = None
         a = [2 * math.pi * k / 360 for k in range(361)]
         self.disk = fig.line([math.cos(t) for t in a], [math.sin(t) for t in a], line_color="#808080")
-        self.points = ColumnDataSource({"x": [], "y": [], "color": []})
-        fig.scatter("x", "y", size=2.5, color="color", line_color=None, source=self.points)
+        x0, x1, y0, y1 = self.model.portrait_range()
+        self.raster = PortraitRaster((x0, x1, y0, y1), palette(), size=FIGURE_SIZE)
+        self.points = ColumnDataSource({"image": [self.raster.image.copy()]})
+        self.portrait_image = fig.image_rgba(image="image", x=x0, y=y0, dw=x1 - x0, dh=y1 - y0, source=self.points,
+                                            level="underlay")
         fig.on_event(events.Tap, self._on_portrait_tap)
         self._label_portrait(fig)
         return fig
@@ -136,23 +148,23 @@ class ExplorerApp:
     def _controls(self, title):
         m = self.model
         lim = m.limits
-        self.play = pn.widgets.Toggle(name="play / pause", button_type="primary", value=False)
-        self.step_button = pn.widgets.Button(name="step (next collision)")
-        self.reset_button = pn.widgets.Button(name="reset", button_type="warning")
-        self.speed = pn.widgets.EditableFloatSlider(name="speed (time units per second)", start=0.1, end=100.0,
+        self.play = pn.widgets.Toggle(label="play / pause", color="primary", value=False)
+        self.step_button = pn.widgets.Button(label="step (next collision)")
+        self.reset_button = pn.widgets.Button(label="reset", color="warning")
+        self.speed = pn.widgets.EditableFloatSlider(label="speed (time units per second)", start=0.1, end=100.0,
                                                     step=0.1, value=1.0, fixed_start=0.01, fixed_end=lim.max_speed)
-        self.law = pn.widgets.RadioButtonGroup(name="law", options=["no-slip", "specular"], value=m.scene.law)
-        self.gamma = pn.widgets.EditableFloatSlider(name="gamma", start=0.0, end=3.0, step=0.01,
+        self.law = pn.widgets.RadioButtonGroup(label="law", options=["no-slip", "specular"], value=m.scene.law)
+        self.gamma = pn.widgets.EditableFloatSlider(label="gamma", start=0.0, end=3.0, step=0.01,
                                                     value=round(m.scene.gamma, 4), fixed_start=0.0, fixed_end=100.0)
-        self.force = pn.widgets.EditableFloatSlider(name="force strength", start=0.0, end=5.0, step=0.05,
+        self.force = pn.widgets.EditableFloatSlider(label="force strength", start=0.0, end=5.0, step=0.05,
                                                     value=round(m.force_strength, 4), fixed_start=0.0,
                                                     fixed_end=1.0e3)
-        self.count = pn.widgets.IntSlider(name="particles per launch", start=1, end=lim.max_beam, value=1)
-        self.launch_speed = pn.widgets.FloatInput(name="launch speed", value=1.0, start=1e-6, step=0.1)
-        self.angle = pn.widgets.FloatSlider(name="tap direction (degrees)", start=-180.0, end=180.0, step=1.0,
+        self.count = pn.widgets.IntSlider(label="particles per launch", start=1, end=lim.max_beam, value=1)
+        self.launch_speed = pn.widgets.FloatInput(label="launch speed", value=1.0, start=1e-6, step=0.1)
+        self.angle = pn.widgets.FloatSlider(label="tap direction (degrees)", start=-180.0, end=180.0, step=1.0,
                                             value=60.0)
         total = self._boundary_length() or 1.0  # a table of lines only: no boundary point to launch from
-        self.s_launch = pn.widgets.FloatSlider(name="launch point s (velocity portrait)", start=0.0, end=total,
+        self.s_launch = pn.widgets.FloatSlider(label="launch point s (velocity portrait)", start=0.0, end=total,
                                                step=total / 1000, value=0.5 * total)
         self.readout = pn.pane.Markdown("", name="readout", sizing_mode="stretch_width")
         self.alert = pn.pane.Alert("", alert_type="warning", visible=False, name="message")
@@ -235,18 +247,24 @@ class ExplorerApp:
     def _physics(self, **change):
         old = self.model.portrait
         self.model.set_physics(**change)
-        self.points.data = {"x": [], "y": []} | {"color": []}
+        self.raster.clear()
+        self._send_portrait()
         if self.model.portrait != old:
             x0, x1, y0, y1 = self._portrait_box()
             self.phase.x_range.start, self.phase.x_range.end = x0, x1
             self.phase.y_range.start, self.phase.y_range.end = y0, y1
+            x0, x1, y0, y1 = self.model.portrait_range()
+            g = self.portrait_image.glyph
+            g.x, g.y, g.dw, g.dh = x0, y0, x1 - x0, y1 - y0
+            self.raster.clear((x0, x1, y0, y1))
             self._label_portrait(self.phase)
             self._show_launch_point()
         self.push(self.model.frame())
 
     def _reset(self):
         self.model.reset()
-        self.points.data = {"x": [], "y": [], "color": []}
+        self.raster.clear()
+        self._send_portrait()
         self.push(self.model.frame())
 
     def _on_play(self, event):
@@ -265,17 +283,28 @@ class ExplorerApp:
         now = time.perf_counter()
         dt = 0.0 if self._last is None else min(now - self._last, MAX_FRAME_SECONDS)
         self._last = now
-        self.push(self.model.advance(dt))
+        self.push(self.model.advance(dt), readout=False)
 
-    def push(self, frame):
-        """Send a frame to the page: replace particles and trails, stream the new portrait points."""
-        p = frame["particles"]
-        self.particles.data = p
+    def push(self, frame, readout=True):
+        """Send a frame to the page: replace particles and trails, stream the new portrait points.
+
+        The readout is rewritten at most READOUT_HZ times a second while playing (text is slow to send).
+        """
+        self.particles.data = frame["particles"]
         self.trails.data = frame["trails"]
-        if frame["portrait"]["x"]:
-            self.points.stream(frame["portrait"], rollover=MAX_PORTRAIT_POINTS)
+        new = frame["portrait"]
+        if len(new["x"]):
+            self.raster.paint(new["x"], new["y"], new["ci"])
+            self._dirty = True
+        now = time.perf_counter()
+        if self._dirty and (readout or now - self._portrait_at >= 1.0 / PORTRAIT_HZ):
+            self._portrait_at = now
+            self._send_portrait()
+        if not readout and now - self._readout_at < 1.0 / READOUT_HZ:
+            return
+        self._readout_at = now
         self._draw_force()
-        r = frame["readout"]
+        r = self.model.readout()
         reasons = ", ".join(f"{k}: {v}" for k, v in sorted(r["stop_reasons"].items())) or "none"
         m = self.model
         self.readout.object = (
@@ -283,6 +312,11 @@ class ExplorerApp:
             f"**energy** {r['energy']:.10g} &nbsp; **relative energy error** {r['energy_error']:.2e}  \n"
             f"**stop reasons** {reasons}  \n"
             f"{m.scene.law}, gamma = {m.scene.gamma:.4g}, force = ({m.scene.force[0]:.3g}, {m.scene.force[1]:.3g})")
+
+    def _send_portrait(self):
+        """The portrait image to the page (a few times a second while playing: one image, whatever the points)."""
+        self.points.data = {"image": [self.raster.image.copy()]}
+        self._dirty = False
 
     def _draw_force(self):
         m = self.model

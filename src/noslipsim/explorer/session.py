@@ -30,11 +30,11 @@ from ..core.layout import STOP_REASONS
 from ..analysis.log_portrait import boundary_length, log_portrait, paper_portrait, portrait_elements
 from ..analysis.portraits import birkhoff_states, reduced_states
 from ..ensemble import simulate_many
-from ..plot import flight_states, orbit_colors, view_window
+from ..plot import orbit_colors, view_window
 from ..scenes import Scene
 from .._validate import finite_float, finite_vector
 
-__all__ = ["Explorer", "Limits", "FIRST_BUDGET"]
+__all__ = ["Explorer", "Limits", "FIRST_BUDGET", "palette"]
 
 #: Collisions computed when an orbit is launched; each refill doubles the budget.
 FIRST_BUDGET = 1000
@@ -45,6 +45,13 @@ TRAIL_BANDS = 4
 TRAIL_POINTS = 12
 #: Drawn particle radius, relative to the larger side of the view.
 PARTICLE_SIZE = 0.018
+#: Orbit colours cycle through this many (:func:`palette`).
+PALETTE_SIZE = 60
+
+
+def palette():
+    """The orbit colours as hex strings: orbit ``i`` is drawn in ``palette()[i % PALETTE_SIZE]``."""
+    return [_hex(c) for c in orbit_colors(PALETTE_SIZE)]
 
 
 @dataclass(frozen=True)
@@ -253,9 +260,10 @@ class Explorer:
             raise ValueError(f"particles: at most {self.limits.max_orbits} orbits at once ({len(self.orbits)} "
                              f"running, {len(starts)} asked for); press reset")
         new = []
+        colors = palette()
         for st in starts:
-            color = _hex(orbit_colors(self.launched + 1)[-1])
-            new.append(Orbit(index=self.launched, color=color, start=st, born=self.clock))
+            new.append(Orbit(index=self.launched, color=colors[self.launched % PALETTE_SIZE], start=st,
+                             born=self.clock))
             self.launched += 1
         try:
             self._compute(new, FIRST_BUDGET)
@@ -339,81 +347,79 @@ class Explorer:
 
     # ------------------------------------------------------------------ what the view draws
     def frame(self):
-        """What to draw at the clock's time.
+        """What to draw at the clock's time, as flat arrays (sent to the page as binary columns).
+
+        Every position is the flight formula of :func:`noslipsim.plot.flight_states`,
+        evaluated for all orbits at once.
 
         Returns
         -------
         dict
             ``particles``: per orbit ``x, y`` (folded into the view for a
-            lattice), ``color``, spin-marker end ``mx, my``; ``trails``:
-            ``xs, ys, color, alpha`` polylines (the last flights, older ones
-            fainter); ``portrait``: ``x, y, color`` of the collisions passed
-            since the last frame; ``readout`` (:meth:`readout`).
+            lattice), spin-marker end ``mx, my`` and colour index ``ci``;
+            ``trails``: segments ``x0, y0, x1, y1, ci, alpha`` along the
+            last :data:`TRAIL_FLIGHTS` flights (older ones fainter);
+            ``portrait``: ``x, y, ci`` of the collisions passed since the last
+            frame.  ``ci`` is the orbit's index modulo :data:`PALETTE_SIZE`
+            (its colour, :func:`palette`).
         """
-        parts = {"x": [], "y": [], "mx": [], "my": [], "color": [], "orbit": []}
-        trails = {"xs": [], "ys": [], "color": [], "alpha": []}
-        new = {"x": [], "y": [], "color": []}
-        for o in self.orbits:
+        n = len(self.orbits)
+        ax, ay = self.scene.force
+        cols = {k: [] for k in ("t", "x", "y", "vx", "vy", "end", "age", "ci")}
+        last = np.empty(n, dtype=np.int64)  # row of each orbit's current flight
+        angle = np.empty(n)
+        ci = np.empty(n, dtype=np.int64)
+        new = []
+        rows = 0
+        for i, o in enumerate(self.orbits):
+            nd = o.nodes
             tau = self.clock - o.born
-            t_nodes = o.nodes["t"]
-            if o.complete and o.stop_reason not in ("escape",):
-                tau = min(tau, o.nodes["t_end"])  # a stopped orbit rests where it stopped
-            st = flight_states(o.nodes, [tau])
-            k = int(st["flight"][0])
-            x, y = float(st["x"][0]), float(st["y"][0])
-            ang = o.angles[k] + (_omega(o.nodes["spin"][k], self.scene.gamma, self.radius) * (tau - t_nodes[k]))
-            fx, fy = self._fold(np.array([x]), np.array([y]))
-            parts["x"].append(float(fx[0]))
-            parts["y"].append(float(fy[0]))
-            parts["mx"].append(float(fx[0]) + self.radius * math.cos(ang))
-            parts["my"].append(float(fy[0]) + self.radius * math.sin(ang))
-            parts["color"].append(o.color)
-            parts["orbit"].append(o.index)
-            self._trail(o, k, tau, trails)
+            if o.complete and o.stop_reason != "escape":
+                tau = min(tau, nd["t_end"])  # a stopped orbit rests where it stopped
+            tau = max(tau, 0.0)
+            k = int(np.searchsorted(nd["t"], tau, side="right")) - 1
+            lo = max(0, k - TRAIL_FLIGHTS + 1)
+            for name in ("t", "x", "y", "vx", "vy"):
+                cols[name].append(nd[name][lo:k + 1])
+            cols["end"].append(np.append(nd["t"][lo + 1:k + 1], tau))
+            cols["age"].append(np.arange(k - lo, -1, -1))
+            ci[i] = o.index % PALETTE_SIZE
+            cols["ci"].append(np.full(k + 1 - lo, ci[i]))
+            rows += k + 1 - lo
+            last[i] = rows - 1
+            angle[i] = o.angles[k] + _omega(nd["spin"][k], self.scene.gamma, self.radius) * (tau - nd["t"][k])
             seen = min(k, o.collisions)  # collisions 1..k are behind the clock
             if seen > o.shown:
-                mx, my = o.marks
-                sel = slice(o.shown, seen)
-                ok = np.isfinite(mx[sel]) & np.isfinite(my[sel])
-                new["x"] += mx[sel][ok].tolist()
-                new["y"] += my[sel][ok].tolist()
-                new["color"] += [o.color] * int(ok.sum())
+                mx, my = (m[o.shown:seen] for m in o.marks)
+                ok = np.isfinite(mx) & np.isfinite(my)
+                new.append((mx[ok], my[ok], np.full(int(ok.sum()), ci[i])))
                 o.shown = seen
-        return {"particles": parts, "trails": trails, "portrait": new, "readout": self.readout()}
-
-    def _trail(self, o, k, tau, out):
-        nd = o.nodes
-        ax, ay = nd["force"]
+        if n == 0:
+            empty = np.empty(0)
+            return {"particles": {k: empty for k in ("x", "y", "mx", "my", "ci")},
+                    "trails": {k: empty for k in ("x0", "y0", "x1", "y1", "ci", "alpha")},
+                    "portrait": {k: empty for k in ("x", "y", "ci")}}
+        c = {k: np.concatenate(v) for k, v in cols.items()}
         m = 2 if (ax, ay) == (0.0, 0.0) else TRAIL_POINTS
-        first = max(0, k - TRAIL_FLIGHTS + 1)
-        ends = np.append(nd["t"][first + 1:k + 1], tau)
-        for band in range(TRAIL_BANDS):
-            lo = first + (k + 1 - first) * band // TRAIL_BANDS
-            hi = first + (k + 1 - first) * (band + 1) // TRAIL_BANDS
-            if hi <= lo:
-                continue
-            xs, ys = [], []
-            for j in range(lo, hi):
-                dur = max(ends[j - first] - nd["t"][j], 0.0)
-                s = np.linspace(0.0, dur, m)
-                xs.append(nd["x"][j] + nd["vx"][j] * s + 0.5 * ax * s * s)
-                ys.append(nd["y"][j] + nd["vy"][j] * s + 0.5 * ay * s * s)
-            fx, fy = self._fold(np.concatenate(xs), np.concatenate(ys), breaks=True)
-            out["xs"].append(fx.tolist())
-            out["ys"].append(fy.tolist())
-            out["color"].append(o.color)
-            out["alpha"].append(0.15 + 0.75 * (band + 1) / TRAIL_BANDS)
+        d = np.clip(c["end"] - c["t"], 0.0, None)[:, None] * np.linspace(0.0, 1.0, m)[None, :]
+        x = c["x"][:, None] + c["vx"][:, None] * d + 0.5 * ax * d * d
+        y = c["y"][:, None] + c["vy"][:, None] * d + 0.5 * ay * d * d
+        px, py = self._fold(x[last, -1], y[last, -1])
+        parts = {"x": px, "y": py, "mx": px + self.radius * np.cos(angle), "my": py + self.radius * np.sin(angle),
+                 "ci": ci}
+        x0, y0 = x[:, :-1].ravel(), y[:, :-1].ravel()
+        f0, g0 = self._fold(x0, y0)  # a segment moves with its first point: no jump across a cell's edge
+        segs = {"x0": f0, "y0": g0, "x1": x[:, 1:].ravel() - (x0 - f0), "y1": y[:, 1:].ravel() - (y0 - g0),
+                "ci": np.repeat(c["ci"], m - 1), "alpha": np.repeat(0.9 - 0.8 * c["age"] / TRAIL_FLIGHTS, m - 1)}
+        pts = {k: np.concatenate([p[j] for p in new]) if new else np.empty(0) for j, k in enumerate(("x", "y", "ci"))}
+        return {"particles": parts, "trails": segs, "portrait": pts}
 
-    def _fold(self, x, y, breaks=False):
-        """Positions of a periodic scene folded into cell 0; with ``breaks``, NaN where a path changes cell."""
-        if self.scene.lattice is None:
+    def _fold(self, x, y):
+        """Positions of a periodic scene folded into cell 0 (a segment is moved with its first point)."""
+        if self.scene.lattice is None or len(x) == 0:
             return x, y
         q = np.c_[x, y]
-        cells = cell_of(q, self.scene.lattice)
-        f = q - cell_origin(cells, self.scene.lattice)
-        if breaks and len(f) > 1:
-            jump = np.flatnonzero((np.diff(cells, axis=0) != 0).any(axis=1)) + 1
-            f = np.insert(f, jump, np.nan, axis=0)
+        f = q - cell_origin(cell_of(q, self.scene.lattice), self.scene.lattice)
         return f[:, 0], f[:, 1]
 
     def readout(self):
