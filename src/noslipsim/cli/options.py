@@ -12,6 +12,7 @@ EXIT_INTERNAL = 1
 _OPTIONS = {
     "position": "--position", "velocity": "--velocity", "spin": "--spin",
     "max_collisions": "-n/--max-collisions", "max_time": "--max-time", "stop_below": "--stop-below",
+    "positions": "--position",  # noslipsim ensemble: every orbit starts at --position
 }
 
 
