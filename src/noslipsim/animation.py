@@ -65,6 +65,43 @@ def ffmpeg_executable():
                        "or install the system's ffmpeg; a .gif needs neither")
 
 
+def _write_gif(frames, path, fps, _ffmpeg=None):
+    """An endlessly looping GIF through Pillow (each frame reduced to its own 256-colour palette)."""
+    from PIL import Image
+
+    images = [Image.fromarray(rgb).convert("P", palette=Image.Palette.ADAPTIVE) for rgb in frames]
+    tmp = path + ".part"
+    images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:], duration=round(1000 / fps), loop=0)
+    os.replace(tmp, path)
+
+
+def _write_mp4(frames, path, fps, ffmpeg):
+    """H.264 MP4 through ffmpeg reading raw RGB frames on its standard input."""
+    import subprocess
+
+    frames = iter(frames)
+    first = next(frames)
+    h, w = first.shape[:2]
+    tmp = path + ".part.mp4"
+    cmd = [ffmpeg, "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24", "-s", f"{w}x{h}",
+           "-r", str(fps), "-i", "-", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264",
+           "-pix_fmt", "yuv420p", tmp]
+    proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        proc.stdin.write(np.ascontiguousarray(first).tobytes())
+        for rgb in frames:
+            proc.stdin.write(np.ascontiguousarray(rgb).tobytes())
+        proc.stdin.close()
+    except BrokenPipeError:
+        pass
+    err = proc.stderr.read().decode(errors="replace")
+    if proc.wait() != 0:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise RuntimeError(f"ffmpeg ({ffmpeg}) failed writing {path}: {' '.join(err.split())[-300:]}")
+    os.replace(tmp, path)
+
+
 def _format(output):
     ext = os.path.splitext(str(output))[1].lower().lstrip(".")
     if ext not in FORMATS:
@@ -125,7 +162,8 @@ def animate(scene: Scene, starts, output, *, max_collisions=30, max_time=None, d
         One ``(position, velocity[, spin])`` (or a mapping with those keys)
         per orbit; positions strictly inside the table.
     output : str or path
-        ``.gif`` (Pillow, no extra tool) or ``.mp4`` (:func:`ffmpeg_executable`).
+        ``.gif`` (Pillow, no extra tool) or ``.mp4`` (H.264 through :func:`ffmpeg_executable`),
+        written under a temporary name and renamed when complete.
     max_collisions : int
         Collisions simulated per orbit.
     max_time : float, optional
@@ -202,7 +240,6 @@ def animate(scene: Scene, starts, output, *, max_collisions=30, max_time=None, d
 
     matplotlib.use("Agg")  # files only
     import matplotlib.pyplot as plt
-    from matplotlib import animation as mpl_animation
     from matplotlib.patches import Circle as CirclePatch
 
     colors = orbit_colors(len(orbits))
@@ -236,7 +273,7 @@ def animate(scene: Scene, starts, output, *, max_collisions=30, max_time=None, d
             pax.set_title(f"{kind} portrait", fontsize="small")
             dots = [pax.scatter([], [], s=6, color=c, linewidths=0) for c in colors]
 
-        def draw(k):
+        def update(k):
             clock.set_text(f"t = {times[k]:.3f}")
             for j, nd in enumerate(nodes):
                 t_now = per_orbit[j][k]
@@ -251,18 +288,27 @@ def animate(scene: Scene, starts, output, *, max_collisions=30, max_time=None, d
                     seen = int(np.searchsorted(nd["t"][1:], t_now, side="right"))
                     mx, my = marks[j]
                     dots[j].set_offsets(np.c_[mx[:seen], my[:seen]])
-            return []
 
-        anim = mpl_animation.FuncAnimation(fig, draw, frames=n_frames, blit=False, repeat=False)
+        # the table, axes and labels are drawn once; each frame redraws only what moves on top of them
+        moving = [clock, *trails, *disks, *markers, *(dots if portrait else [])]
+        for artist in moving:
+            artist.set_animated(True)
+        fig.canvas.draw()
+        fig.set_layout_engine("none")  # the layout is settled: no layout pass per frame
+        background = fig.canvas.copy_from_bbox(fig.bbox)
+
+        def frames():
+            for k in range(n_frames):
+                update(k)
+                fig.canvas.restore_region(background)
+                for artist in moving:
+                    artist.axes.draw_artist(artist)
+                yield np.asarray(fig.canvas.buffer_rgba())[..., :3]
+
         folder = os.path.dirname(os.path.abspath(str(output)))
         os.makedirs(folder, exist_ok=True)
-        if fmt == "gif":
-            writer = mpl_animation.PillowWriter(fps=fps)
-        else:
-            matplotlib.rcParams["animation.ffmpeg_path"] = writer_path
-            writer = mpl_animation.FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])
         try:
-            anim.save(str(output), writer=writer, dpi=dpi)
+            (_write_gif if fmt == "gif" else _write_mp4)(frames(), str(output), fps, writer_path)
         finally:
             plt.close(fig)
     return {"output": str(output), "frames": n_frames, "times": times, "orbit_times": np.array(per_orbit),

@@ -222,8 +222,11 @@ def periodic(args):
             plot.draw_orbit(ax, orbit)
             ax.set_title(f"{period}-periodic orbit, residual {found.residual:.1e}", fontsize="small")
         _figure(args.figure, draw)
-    print(f"found a {period}-periodic orbit: position {list(found.position)}, velocity {list(found.velocity)}, "
-          f"spin {found.spin:.12g}, residual {found.residual:.2e}, {kind}; wrote {args.output}"
+    def fmt(v):
+        return "[" + ", ".join(f"{x:.10g}" for x in v) + "]"
+
+    print(f"found a {period}-periodic orbit: position {fmt(found.position)}, velocity {fmt(found.velocity)}, "
+          f"spin {found.spin:.10g}, residual {found.residual:.1e}, {kind}; wrote {args.output}"
           + (f" and {args.figure}" if args.figure else ""))
 
 

@@ -33,8 +33,8 @@ MAX_FRAME_SECONDS = 0.2
 #: Readout and portrait updates per second while playing.
 READOUT_HZ = 4
 PORTRAIT_HZ = 5
-#: Size of each figure in pixels.
-FIGURE_SIZE = 460
+#: Side of each figure's square frame in pixels (square: the table and the velocity disk at equal aspect).
+FIGURE_SIZE = 400
 
 _COUNTER = "window.noslipsimFrames = (window.noslipsimFrames || 0) + 1;"
 
@@ -79,7 +79,7 @@ class ExplorerApp:
     def _table_figure(self):
         m = self.model
         x0, x1, y0, y1 = m.window
-        fig = figure(width=FIGURE_SIZE, height=FIGURE_SIZE, match_aspect=True, tools="tap,wheel_zoom,reset,save",
+        fig = figure(frame_width=FIGURE_SIZE, frame_height=FIGURE_SIZE, tools="tap,wheel_zoom,reset,save",
                      x_range=Range1d(x0, x1), y_range=Range1d(y0, y1), title="table: drag to launch a beam",
                      name="table")
         fig.toolbar.logo = None
@@ -115,8 +115,7 @@ class ExplorerApp:
 
     def _portrait_figure(self):
         x0, x1, y0, y1 = self._portrait_box()
-        fig = figure(width=FIGURE_SIZE, height=FIGURE_SIZE, tools="tap,wheel_zoom,box_zoom,reset,save",
-                     match_aspect=self.model.portrait == "velocity",
+        fig = figure(frame_width=FIGURE_SIZE, frame_height=FIGURE_SIZE, tools="tap,wheel_zoom,box_zoom,reset,save",
                      x_range=Range1d(x0, x1), y_range=Range1d(y0, y1), name="portrait")
         fig.toolbar.logo = None
         a = [2 * math.pi * k / 360 for k in range(361)]

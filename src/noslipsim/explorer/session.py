@@ -122,7 +122,7 @@ class Explorer:
         self.base = scene
         self.scene = scene
         self.limits = limits or Limits()
-        self.window = view_window(scene, margin=0.05)
+        self.window = _square(view_window(scene, margin=0.05))
         self.radius = PARTICLE_SIZE * max(self.window[1] - self.window[0], self.window[3] - self.window[2])
         # a scene without force gets its force control along gravity
         fx, fy = scene.force
@@ -440,6 +440,14 @@ class Explorer:
         return {"orbits": len(self.orbits), "collisions": drawn, "clock": self.clock,
                 "energy": float(last.energy[0]) if last is not None else math.nan,
                 "energy_error": worst, "stop_reasons": reasons, "message": self.message}
+
+
+def _square(box):
+    """``box`` widened along its shorter side to a square (the page's figures are square: equal aspect)."""
+    x0, x1, y0, y1 = box
+    half = 0.5 * max(x1 - x0, y1 - y0)
+    cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+    return cx - half, cx + half, cy - half, cy + half
 
 
 def _omega(w, gamma, radius):
