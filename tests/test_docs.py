@@ -24,7 +24,8 @@ GALLERY = ROOT / "examples" / "gallery"
 
 #: Modules of the API reference (docs/api.rst) and the public names each must document.
 API_MODULES = ["noslipsim", "noslipsim.tables", "noslipsim.experiments", "noslipsim.initial", "noslipsim.theory",
-               "noslipsim.sphere3d", "noslipsim.reference", "noslipsim.analysis", "noslipsim.plot"]
+               "noslipsim.sphere3d", "noslipsim.reference", "noslipsim.analysis", "noslipsim.plot",
+               "noslipsim.analysis.log_portrait", "noslipsim.animation", "noslipsim.explorer"]
 #: Generated and build folders of docs/ that a build must not find in its copy of the tree.
 BUILD_PRODUCTS = ["_build", "generated", "auto_examples", "sg_execution_times.rst"]
 

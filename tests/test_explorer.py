@@ -201,3 +201,29 @@ def test_the_portrait_raster_paints_each_point_at_its_pixel_in_its_colour():
     assert r.image[5, 7] == red
     r.clear()
     assert r.points == 0 and not r.image.any()
+
+
+def test_the_command_serves_the_page_on_the_loopback_address():
+    """``noslipsim explore`` from a fresh process: the line it prints names 127.0.0.1, and that URL serves the app."""
+    import re
+    import subprocess
+    import sys
+    import time
+    import urllib.request
+
+    proc = subprocess.Popen([sys.executable, "-m", "noslipsim.cli", "explore", str(ROOT / "examples" / "sinai_box.yaml"),
+                             "--port", "0", "--no-browser"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        line = proc.stdout.readline()
+        url = re.search(r"http://127\.0\.0\.1:\d+/", line)
+        assert url, line
+        end, page = time.monotonic() + 120, None
+        while page is None and time.monotonic() < end:
+            try:
+                page = urllib.request.urlopen(url.group(0), timeout=30).read().decode()
+            except OSError:
+                time.sleep(0.2)
+        assert page is not None and "Bokeh" in page and "sinai_box.yaml" in page
+    finally:
+        proc.terminate()
+        proc.wait(timeout=30)

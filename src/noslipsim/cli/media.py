@@ -77,7 +77,7 @@ def animate(args):
 def explore(args):
     """``noslipsim explore``: serve the explorer until interrupted."""
     try:
-        from ..explorer.server import DEFAULT_ADDRESS, load_scene, serve
+        from ..explorer.server import DEFAULT_ADDRESS, free_port, load_scene, serve
         from ..explorer.session import Limits
     except ImportError as err:
         raise ValueError(f"the explorer needs Panel and Bokeh ({err}): pip install 'noslipsim[explore]'") from None
@@ -94,9 +94,9 @@ def explore(args):
     if not 0 <= args.port < 65536:
         raise ValueError(f"--port: expected 0 to 65535, got {args.port}")
     address = args.address or DEFAULT_ADDRESS
-    print(f"noslipsim explore: serving {args.scene} on http://{address}:{args.port or '(a free port)'}/ "
-          "(Ctrl-C to stop)")
-    serve(args.scene, address=address, port=args.port, show=not args.no_browser, limits=Limits(**limits))
+    port = args.port or free_port(address)
+    print(f"noslipsim explore: serving {args.scene} on http://{address}:{port}/ (Ctrl-C to stop)", flush=True)
+    serve(args.scene, address=address, port=port, show=not args.no_browser, limits=Limits(**limits))
 
 
 def _count(value, option):
