@@ -184,6 +184,7 @@ class Scene:
             raise type(err)(f"{where}: {err}") from None
 
     def to_dict(self):
+        """The scene as its scene-file mapping (the inverse of :meth:`from_dict`)."""
         d = {"law": self.law, "gamma": self.gamma, "force": list(self.force),
              "elements": [e.to_dict() for e in self.elements]}
         if self.lattice is not None:
@@ -199,6 +200,7 @@ class Scene:
         return text
 
     def to_json(self):
+        """The scene as a JSON string (sorted keys): how datasets store it."""
         return json.dumps(self.to_dict(), sort_keys=True)
 
     def replace(self, **changes):
