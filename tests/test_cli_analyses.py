@@ -11,12 +11,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from test_cli import assert_one_line_error, run_main
 
 import noslipsim as ns
 from noslipsim import analysis
 from noslipsim.cli import main
-
-from test_cli import assert_one_line_error, run_main
 
 ROOT = Path(__file__).resolve().parents[1]
 BOX = str(ROOT / "examples" / "sinai_box.yaml")
@@ -97,7 +96,8 @@ def test_animate_writes_a_gif_of_several_orbits(tmp_path, capsys):
 
 @pytest.mark.parametrize("argv, fragments", [
     (["portrait", BOX, "--orbits", "0", "-o", "x.nc"], ["--orbits: must be >= 1"]),
-    (["portrait", BOX, "--figure", "x.abc", "--orbits", "1", "-n", "5", "-o", "{tmp}/x.nc"], ["--figure: unknown image format"]),
+    (["portrait", BOX, "--figure", "x.abc", "--orbits", "1", "-n", "5", "-o", "{tmp}/x.nc"],
+     ["--figure: unknown image format"]),
     (["ensemble", BOX, "--position", "0.5", "0.5", "-o", "x.nc"], ["--position", "not strictly inside the table"]),
     (["ensemble", BOX, "--position", "0.1", "0.1", "--speed", "0", "-o", "x.nc"], ["--speed: must be finite and > 0"]),
     (["periodic", BOX, "--position", "0.1", "0.1", "--velocity", "1", "0", "--period", "0", "-o", "x.nc"],

@@ -15,10 +15,10 @@ import pytest
 
 pytest.importorskip("panel", reason="the explorer needs the 'explore' extra (Panel, Bokeh)")
 
-import noslipsim as ns  # noqa: E402
-from noslipsim import tables  # noqa: E402
-from noslipsim.analysis.log_portrait import log_portrait  # noqa: E402
-from noslipsim.explorer.session import FIRST_BUDGET, Explorer, Limits  # noqa: E402
+import noslipsim as ns
+from noslipsim import tables
+from noslipsim.analysis.log_portrait import log_portrait
+from noslipsim.explorer.session import FIRST_BUDGET, Explorer, Limits
 
 ROOT = Path(__file__).resolve().parents[1]
 BOX = ns.Scene.from_yaml(str(ROOT / "examples" / "sinai_box.yaml"))
@@ -211,8 +211,9 @@ def test_the_command_serves_the_page_on_the_loopback_address():
     import time
     import urllib.request
 
-    proc = subprocess.Popen([sys.executable, "-m", "noslipsim.cli", "explore", str(ROOT / "examples" / "sinai_box.yaml"),
-                             "--port", "0", "--no-browser"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    scene_file = str(ROOT / "examples" / "sinai_box.yaml")
+    argv = [sys.executable, "-m", "noslipsim.cli", "explore", scene_file, "--port", "0", "--no-browser"]
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         line = proc.stdout.readline()
         url = re.search(r"http://127\.0\.0\.1:\d+/", line)

@@ -12,7 +12,6 @@ Skipped, with the reason, where Chromium or Playwright is missing
 (``.ci/run`` installs Debian's chromium so CI runs them).
 """
 import math
-import os
 import shutil
 import time
 from pathlib import Path

@@ -34,7 +34,7 @@ from .plot import collision_frames, draw_table, flight_states, orbit_colors, orb
 from .scenes import Scene
 from .simulate import simulate
 
-__all__ = ["animate", "ffmpeg_executable", "FORMATS"]
+__all__ = ["FORMATS", "animate", "ffmpeg_executable"]
 
 #: File formats written, by extension.
 FORMATS = ("gif", "mp4")
@@ -198,7 +198,7 @@ def animate(scene: Scene, starts, output, *, max_collisions=30, max_time=None, d
     fmt = _format(output)
     duration = _positive(duration, "duration")
     fps = _positive(fps, "fps", integer=True)
-    n_frames = max(2, int(round(duration * fps)))
+    n_frames = max(2, round(duration * fps))
     if n_frames > MAX_FRAMES:
         raise ValueError(f"duration, fps: {n_frames} frames is more than {MAX_FRAMES}; shorten the animation")
     if trail is not None:

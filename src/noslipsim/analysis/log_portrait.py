@@ -20,7 +20,7 @@ from ..scenes import Scene
 from .portraits import _layout, birkhoff_coordinates, velocity_portrait
 from .section import boundary_frames
 
-__all__ = ["PORTRAITS", "paper_portrait", "portrait_elements", "log_portrait", "boundary_length"]
+__all__ = ["PORTRAITS", "boundary_length", "log_portrait", "paper_portrait", "portrait_elements"]
 
 #: The portrait kinds and their axes ``(x label, y label)``.
 PORTRAITS = {"velocity": ("v_t", "w"), "birkhoff": ("s", "p = sin(alpha)")}

@@ -21,8 +21,7 @@ import math
 import sys
 
 from .._version import __version__
-
-from .options import EXIT_INTERNAL, EXIT_USAGE, _OPTIONS, _Parser, _orbit_arguments, _start_errors
+from .options import EXIT_INTERNAL, EXIT_USAGE, _orbit_arguments, _Parser, _start_errors
 
 
 def _parser():

@@ -29,7 +29,8 @@ def add_commands(sub, debug):
     a.add_argument("--trail", type=float, default=None, help="show the last T time units of path only")
     a.add_argument("--window", nargs=4, type=float, metavar=("X0", "X1", "Y0", "Y1"),
                    help="region shown (default: the table and every orbit)")
-    a.add_argument("--radius", type=float, default=None, help="drawn radius of the particle (default: 2.5%% of the view)")
+    a.add_argument("--radius", type=float, default=None,
+                   help="drawn radius of the particle (default: 2.5%% of the view)")
     a.add_argument("--dpi", type=int, default=100, help="frame resolution (default 100)")
     a.add_argument("-o", "--output", required=True, help="file to write: .gif or .mp4")
     a.add_argument("--debug", **debug)
@@ -65,7 +66,7 @@ def animate(args):
     spins = args.spin or [0.0] * n
     if len(spins) != n:
         raise ValueError(f"--spin: give one per --position ({n}) or none, got {len(spins)}")
-    starts = list(zip(args.position, args.velocity, spins))
+    starts = list(zip(args.position, args.velocity, spins, strict=True))
     out = _start_errors(write_animation, scene, starts, args.output, max_collisions=args.max_collisions,
                         max_time=args.max_time, duration=args.duration, fps=args.fps, portrait=args.portrait,
                         trail=args.trail, window=args.window, radius=args.radius, dpi=args.dpi)

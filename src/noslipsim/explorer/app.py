@@ -192,8 +192,8 @@ class ExplorerApp:
 
     def _show_launch_point(self):
         """The boundary point a click in the velocity portrait launches from, as a red mark in the table."""
-        from ..analysis.portraits import reduced_states
         from ..analysis.log_portrait import portrait_elements
+        from ..analysis.portraits import reduced_states
 
         m = self.model
         if m.portrait != "velocity" or self._boundary_length() is None:

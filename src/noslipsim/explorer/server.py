@@ -26,7 +26,7 @@ from ..scenes import Scene
 from .app import ExplorerApp, error_page
 from .session import Limits
 
-__all__ = ["serve", "free_port", "MAX_SESSIONS", "DEFAULT_ADDRESS", "DEFAULT_PORT"]
+__all__ = ["DEFAULT_ADDRESS", "DEFAULT_PORT", "MAX_SESSIONS", "free_port", "serve"]
 
 DEFAULT_ADDRESS = "127.0.0.1"
 DEFAULT_PORT = 5006

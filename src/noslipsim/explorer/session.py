@@ -26,15 +26,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._engine.lattice import cell_of, cell_origin
-from ..core.layout import STOP_REASONS
+from .._validate import finite_float, finite_vector
 from ..analysis.log_portrait import boundary_length, log_portrait, paper_portrait, portrait_elements
 from ..analysis.portraits import birkhoff_states, reduced_states
+from ..core.layout import STOP_REASONS
 from ..ensemble import simulate_many
 from ..plot import orbit_colors, view_window
 from ..scenes import Scene
-from .._validate import finite_float, finite_vector
 
-__all__ = ["Explorer", "Limits", "FIRST_BUDGET", "palette"]
+__all__ = ["FIRST_BUDGET", "Explorer", "Limits", "palette"]
 
 #: Collisions computed when an orbit is launched; each refill doubles the budget.
 FIRST_BUDGET = 1000
@@ -289,7 +289,7 @@ class Explorer:
             st = o.start
             o.nodes = {k: np.concatenate([[v0], log[k]]) for k, v0 in
                        zip(("t", "x", "y", "vx", "vy", "spin"),
-                           (0.0, *st["position"], *st["velocity"], st["spin"]))}
+                           (0.0, *st["position"], *st["velocity"], st["spin"]), strict=True)}
             o.nodes["force"] = (ax, ay)
             o.nodes["t_end"] = float(ds.t_final[i])
             o.marks = log_portrait(self.scene, ds.element.values[i, :n], ds.s.values[i, :n], log["vx"], log["vy"],
@@ -461,5 +461,5 @@ def _node_angles(nodes, gamma, radius):
 
 
 def _hex(rgba):
-    r, g, b = (int(round(255 * c)) for c in rgba[:3])
+    r, g, b = (round(255 * c) for c in rgba[:3])
     return f"#{r:02x}{g:02x}{b:02x}"

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["flight_states", "collision_frames"]
+__all__ = ["collision_frames", "flight_states"]
 
 
 def flight_states(nodes, times):

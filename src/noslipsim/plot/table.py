@@ -17,8 +17,8 @@ from matplotlib.patches import Arc as ArcPatch
 from matplotlib.patches import Circle as CirclePatch
 from matplotlib.patches import Polygon
 
-from ..elements import Arc, Circle, Line, Segment
 from .._engine.lattice import lattice_matrix
+from ..elements import Arc, Circle, Line, Segment
 from ..scenes import Scene
 from .style import SCATTERER_COLOR, WALL_COLOR
 
