@@ -228,3 +228,23 @@ def test_the_command_serves_the_page_on_the_loopback_address():
     finally:
         proc.terminate()
         proc.wait(timeout=30)
+
+
+def test_the_server_waits_for_a_page_that_falls_behind():
+    """More than MAX_IN_FLIGHT frames not yet drawn by the page: ticks send nothing until it acknowledges them."""
+    from noslipsim.explorer.app import ACK_TIMEOUT, MAX_IN_FLIGHT, ExplorerApp
+
+    app = ExplorerApp(BOX)
+    app.model.launch([0.1, 0.1], [0.6, 0.8])
+    app._on_ack("tags", [], [0])  # the page answered just now, and has drawn nothing
+    for _ in range(MAX_IN_FLIGHT + 3):
+        app.tick()
+    assert app._sent == MAX_IN_FLIGHT + 1  # then it waits
+    clock = app.model.clock
+    app._on_ack("tags", [], [app._sent])  # the page caught up
+    app.tick()
+    assert app._sent == MAX_IN_FLIGHT + 2 and app.model.clock > clock
+    app._ack_at -= ACK_TIMEOUT  # a page silent for ACK_TIMEOUT: nothing is taken to be in flight
+    app._sent += MAX_IN_FLIGHT + 5
+    app.tick()
+    assert app._acked == app._sent - 1

@@ -170,6 +170,7 @@ def test_orbits_play_and_fill_the_portrait_with_no_console_error(page):
         " for (let i = 0; i < im.length; i++) { if (im[i] !== 0) n++; } return n >= 40 ? n : 0; }",
         timeout=TIMEOUT * 1000).json_value()
     assert painted >= 40  # the portrait image reached the page: at least 10 points of 2 x 2 pixels
+    wait_for(lambda: app._acked >= 20, "the page's count of frames drawn, sent back to the server")
     ARTIFACTS.mkdir(exist_ok=True)
     pg.screenshot(path=str(ARTIFACTS / "explorer.png"))
     assert (ARTIFACTS / "explorer.png").stat().st_size > 10_000

@@ -36,7 +36,17 @@ PORTRAIT_HZ = 5
 #: Side of each figure's square frame in pixels (square: the table and the velocity disk at equal aspect).
 FIGURE_SIZE = 400
 
-_COUNTER = "window.noslipsimFrames = (window.noslipsimFrames || 0) + 1;"
+#: Frames the page may have received but not yet drawn before the server waits for it.
+MAX_IN_FLIGHT = 6
+#: Without an acknowledgement for this long, nothing is taken to be in flight (a frame equal to the
+#: previous one changes nothing in the page and is never acknowledged).
+ACK_TIMEOUT = 1.0
+
+# The page counts the frames it has drawn and sends the count back (the particles' tags): a page
+# slower than the server would otherwise queue frames without end, and its clicks would wait
+# behind them (seen at load 15 on 2 cores: a drag reached the server a minute late).
+_COUNTER = ("window.noslipsimFrames = (window.noslipsimFrames || 0) + 1;"
+            " cb_obj.tags = [window.noslipsimFrames];")
 
 
 def error_page(message):
@@ -66,6 +76,8 @@ class ExplorerApp:
         self._portrait_at = 0.0
         self._dirty = False
         self._last = None
+        self._sent = self._acked = 0  # frames pushed to the page since it opened, frames it has drawn
+        self._ack_at = 0.0
         self._drag = None
         self._callback = None
         self.table = self._table_figure()
@@ -74,6 +86,7 @@ class ExplorerApp:
         self.layout = pn.Row(pn.Column(self.table, self.readout), pn.Column(self.phase, self.alert),
                              self.sidebar, name="noslipsim explorer")
         self.push(self.model.frame())
+        self._sent = 0  # the first frame is part of the page, not a change the page acknowledges
 
     # ------------------------------------------------------------------ figures
     def _table_figure(self):
@@ -98,6 +111,7 @@ class ExplorerApp:
                     source=self.trails)
         self.particles = ColumnDataSource({k: [] for k in ("x", "y", "mx", "my", "ci")})
         self.particles.js_on_change("data", CustomJS(code=_COUNTER))
+        self.particles.on_change("tags", self._on_ack)
         fig.circle("x", "y", radius=m.radius, fill_color=self.colors, fill_alpha=0.45, line_color=self.colors,
                    source=self.particles)
         fig.segment("x", "y", "mx", "my", line_color="black", line_width=1.5, source=self.particles)
@@ -280,9 +294,18 @@ class ExplorerApp:
     def tick(self):
         """One frame: advance the clock by the wall time since the last frame (at most MAX_FRAME_SECONDS)."""
         now = time.perf_counter()
+        if self._sent - self._acked > MAX_IN_FLIGHT:
+            if now - self._ack_at < ACK_TIMEOUT:
+                return  # the page is behind: skip this frame (the clock waits too)
+            self._acked = self._sent
         dt = 0.0 if self._last is None else min(now - self._last, MAX_FRAME_SECONDS)
         self._last = now
         self.push(self.model.advance(dt), readout=False)
+
+    def _on_ack(self, attr, old, new):
+        """The page's count of frames drawn (sent back by ``_COUNTER``)."""
+        if new:
+            self._acked, self._ack_at = int(new[0]), time.perf_counter()
 
     def push(self, frame, readout=True):
         """Send a frame to the page: replace particles and trails, stream the new portrait points.
@@ -290,6 +313,7 @@ class ExplorerApp:
         The readout is rewritten at most READOUT_HZ times a second while playing (text is slow to send).
         """
         self.particles.data = frame["particles"]
+        self._sent += 1
         self.trails.data = frame["trails"]
         new = frame["portrait"]
         if len(new["x"]):
