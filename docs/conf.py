@@ -15,7 +15,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "src"))  # the package in this tree, installed or not
 sys.path.insert(0, os.path.join(HERE, "_ext"))  # local extensions (gif_scraper)
 
-import noslipsim  # noqa: E402
+import noslipsim
 
 project = "noslipsim"
 author = "the noslipsim developers"

@@ -59,7 +59,7 @@ def test_docs_build_without_warnings(built_docs):
 
 
 def test_every_gallery_example_ran_and_made_a_figure(built_docs):
-    run, out = built_docs
+    _run, out = built_docs
     examples = sorted(p.stem for p in GALLERY.glob("plot_*.py"))
     assert len(examples) >= 8
     images = out / "_images"
@@ -73,7 +73,7 @@ def test_every_gallery_example_ran_and_made_a_figure(built_docs):
 def test_api_reference_documents_every_public_name(built_docs):
     import importlib
 
-    run, out = built_docs
+    _run, out = built_docs
     for modname in API_MODULES:
         mod = importlib.import_module(modname)
         names = getattr(mod, "__all__", None)
@@ -90,7 +90,7 @@ def test_api_reference_documents_every_public_name(built_docs):
 # ---------------------------------------------------------------------------- offline
 def test_the_site_loads_nothing_from_the_network(built_docs):
     """No script or style sheet from another host; MathJax is shipped in _static."""
-    run, out = built_docs
+    _run, out = built_docs
     external = re.compile(r"""<(?:script|link)[^>]+(?:src|href)=["'](?:https?:)?//""", re.I)
     offenders = {str(p.relative_to(out)) for p in out.rglob("*.html") if external.search(p.read_text())}
     assert not offenders, sorted(offenders)[:5]
@@ -104,7 +104,7 @@ def test_formulas_render_without_a_network(built_docs):
     if chromium is None:
         pytest.skip("needs Debian's chromium (apt-get install chromium; .ci/run installs it)")
     sync_api = pytest.importorskip("playwright.sync_api", reason="needs playwright (the 'test' extra)")
-    run, out = built_docs
+    _run, out = built_docs
     refused = []
     with sync_api.sync_playwright() as p:
         browser = p.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
@@ -139,7 +139,7 @@ def test_pages_show_the_real_outputs(page, least, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     blocks = _blocks((DOCS / f"{page}.md").read_text())
     namespace, checked = {}, 0
-    for (kind, body), nxt in zip(blocks, blocks[1:] + [(None, None)]):
+    for (kind, body), nxt in zip(blocks, [*blocks[1:], (None, None)]):
         name = re.match(r"# (\S+\.yaml)", body or "")
         if kind == "yaml" and name:
             (tmp_path / name.group(1)).write_text(body)
