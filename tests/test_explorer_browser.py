@@ -60,6 +60,11 @@ def server(tmp_path_factory):
     folder = tmp_path_factory.mktemp("explore")
     scene_file = folder / "box.yaml"
     scene_file.write_text(SCENE_TEXT)
+    # compile the scene's kernel here, not inside the first click's wait (a minute from a cold cache under load)
+    from noslipsim import Scene
+    from noslipsim.explorer.session import Explorer
+
+    Explorer(Scene.from_yaml(str(scene_file))).launch([0.1, 0.1], [0.6, 0.8])
     apps = []
     port = free_port()
     srv = serve(scene_file, port=port, show=False, threaded=True, on_page=apps.append)
