@@ -13,8 +13,9 @@ matplotlib.use("Agg")
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "src"))  # the package in this tree, installed or not
+sys.path.insert(0, os.path.join(HERE, "_ext"))  # local extensions (gif_scraper)
 
-import noslipsim  # noqa: E402
+import noslipsim
 
 project = "noslipsim"
 author = "the noslipsim developers"
@@ -27,6 +28,7 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",  # MathJax shipped into _static/mathjax: formulas render without a network
     "sphinx_gallery.gen_gallery",
     "matplotlib.sphinxext.plot_directive",
 ]
@@ -57,6 +59,8 @@ sphinx_gallery_conf = {
     "remove_config_comments": True,
     "show_memory": False,
     "min_reported_time": 1,
+    "image_scrapers": ("matplotlib", "gif_scraper.gif_scraper"),  # by name: a function would not pickle
+    "write_computation_times": False,  # that page loads a table script from a CDN
 }
 
 plot_include_source = True

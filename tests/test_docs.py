@@ -25,7 +25,7 @@ GALLERY = ROOT / "examples" / "gallery"
 #: Modules of the API reference (docs/api.rst) and the public names each must document.
 API_MODULES = ["noslipsim", "noslipsim.tables", "noslipsim.experiments", "noslipsim.initial", "noslipsim.theory",
                "noslipsim.sphere3d", "noslipsim.reference", "noslipsim.analysis", "noslipsim.plot",
-               "noslipsim.cluster"]
+               "noslipsim.cluster", "noslipsim.analysis.log_portrait", "noslipsim.animation", "noslipsim.explorer"]
 #: Generated and build folders of docs/ that a build must not find in its copy of the tree.
 BUILD_PRODUCTS = ["_build", "generated", "auto_examples", "sg_execution_times.rst"]
 
@@ -53,25 +53,27 @@ def test_docs_build_without_warnings(built_docs):
     run, out = built_docs
     assert run.returncode == 0, run.stdout + run.stderr
     assert "WARNING" not in run.stderr and "ERROR" not in run.stderr, run.stderr
-    for page in ["index", "getting-started", "conventions", "scenes", "datasets", "algorithm", "analysis", "errata",
-                 "api"]:
+    for page in ["index", "getting-started", "tutorial", "explorer", "conventions", "scenes", "datasets", "algorithm",
+                 "analysis", "errata", "api"]:
         assert (out / f"{page}.html").is_file(), page
 
 
 def test_every_gallery_example_ran_and_made_a_figure(built_docs):
-    run, out = built_docs
+    _run, out = built_docs
     examples = sorted(p.stem for p in GALLERY.glob("plot_*.py"))
     assert len(examples) >= 8
     images = out / "_images"
     for name in examples:
         assert (out / "auto_examples" / f"{name}.html").is_file(), name
         assert list(images.glob(f"sphx_glr_{name}_001.png")), f"{name} made no figure"
+    gifs = list(images.glob("sphx_glr_plot_animation_spin_*.gif"))  # the gallery's animation, as a GIF
+    assert gifs and gifs[0].name in (out / "auto_examples" / "plot_animation_spin.html").read_text()
 
 
 def test_api_reference_documents_every_public_name(built_docs):
     import importlib
 
-    run, out = built_docs
+    _run, out = built_docs
     for modname in API_MODULES:
         mod = importlib.import_module(modname)
         names = getattr(mod, "__all__", None)
@@ -85,21 +87,63 @@ def test_api_reference_documents_every_public_name(built_docs):
             assert (out / "generated" / f"{modname}.{name}.html").is_file(), f"{modname}.{name} has no API page"
 
 
+# ---------------------------------------------------------------------------- offline
+def test_the_site_loads_nothing_from_the_network(built_docs):
+    """No script or style sheet from another host; MathJax is shipped in _static."""
+    _run, out = built_docs
+    external = re.compile(r"""<(?:script|link)[^>]+(?:src|href)=["'](?:https?:)?//""", re.I)
+    offenders = {str(p.relative_to(out)) for p in out.rglob("*.html") if external.search(p.read_text())}
+    assert not offenders, sorted(offenders)[:5]
+    assert (out / "_static" / "mathjax" / "tex-chtml.js").is_file()
+    assert "_static/mathjax/tex-chtml.js" in (out / "conventions.html").read_text()
+
+
+def test_formulas_render_without_a_network(built_docs):
+    """A page with formulas, opened from disk in Chromium with every network request refused, typesets them."""
+    chromium = shutil.which("chromium")
+    if chromium is None:
+        pytest.skip("needs Debian's chromium (apt-get install chromium; .ci/run installs it)")
+    sync_api = pytest.importorskip("playwright.sync_api", reason="needs playwright (the 'test' extra)")
+    _run, out = built_docs
+    refused = []
+    with sync_api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
+        page = browser.new_page()
+
+        def only_files(route):
+            if route.request.url.startswith("file://"):
+                return route.continue_()
+            refused.append(route.request.url)
+            return route.abort()
+
+        page.route("**/*", only_files)
+        page.goto((out / "conventions.html").as_uri())
+        page.wait_for_function("() => document.querySelectorAll('mjx-container').length > 5", timeout=60_000)
+        assert page.locator("mjx-container").count() > 5
+        browser.close()
+    assert refused == []
+
+
 # ---------------------------------------------------------------------------- getting started
 def _blocks(text):
     """``(kind, body)`` of every fenced block of a Markdown page, in order."""
     return [(m.group(1), m.group(2)) for m in re.finditer(r"^```(\w[\w-]*)\n(.*?)^```$", text, re.S | re.M)]
 
 
-def test_getting_started_shows_the_real_outputs(tmp_path, monkeypatch):
+@pytest.mark.parametrize("page, least", [("getting-started", 4), ("tutorial", 8)])
+def test_pages_show_the_real_outputs(page, least, tmp_path, monkeypatch):
+    """Console and Python blocks run and print what the page shows; a YAML block headed ``# NAME.yaml`` is that file."""
     from noslipsim.cli import main
 
     shutil.copytree(ROOT / "examples", tmp_path / "examples")
     monkeypatch.chdir(tmp_path)
-    blocks = _blocks((DOCS / "getting-started.md").read_text())
+    blocks = _blocks((DOCS / f"{page}.md").read_text())
     namespace, checked = {}, 0
-    for (kind, body), nxt in zip(blocks, blocks[1:] + [(None, None)]):
-        if kind == "console":
+    for (kind, body), nxt in zip(blocks, [*blocks[1:], (None, None)]):
+        name = re.match(r"# (\S+\.yaml)", body or "")
+        if kind == "yaml" and name:
+            (tmp_path / name.group(1)).write_text(body)
+        elif kind == "console":
             command, *expected = body.splitlines()
             assert command.startswith("$ noslipsim ")
             out, err = io.StringIO(), io.StringIO()
@@ -110,12 +154,12 @@ def test_getting_started_shows_the_real_outputs(tmp_path, monkeypatch):
         elif kind == "python":
             out = io.StringIO()
             with contextlib.redirect_stdout(out):
-                exec(compile(body, "getting-started.md", "exec"), namespace)
+                exec(compile(body, f"{page}.md", "exec"), namespace)
             if nxt[0] == "text":
                 assert [line.rstrip() for line in out.getvalue().splitlines()] == \
                        [line.rstrip() for line in nxt[1].splitlines()], body
                 checked += 1
-    assert checked >= 4
+    assert checked >= least
 
 
 # ---------------------------------------------------------------------------- docstrings

@@ -22,7 +22,8 @@ RANKS = {
     "ensemble": 6, "reference": 6,
     "analysis": 7, "plot": 7,                    # side by side: neither imports the other
     "experiments": 8,
-    "cli": 9, "explore": 9, "animate": 9, "cluster": 9,   # cluster: runtime settings -> where ensembles run
+    "animation": 8, "explorer": 8,               # beside experiments: the explorer app, animations
+    "cli": 9, "cluster": 9,                      # cluster: runtime settings -> where ensembles run
 }
 
 

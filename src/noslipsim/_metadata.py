@@ -162,6 +162,13 @@ VARIABLES = {
     "theta_transition": ("launch angle where the linear class first changes from elliptic to hyperbolic "
                          "(lambda + 1/lambda = 2)", "rad"),
     "theta_parallel": ("pi/2 - phi: launch parallel to the far wall", "rad"),
+    # ------------------------------------------------ noslipsim lyapunov (a scene file's orbit)
+    "lyapunov_exponent": ("largest Lyapunov exponent of the orbit per unit time (Benettin, exact tangent map)",
+                          "1"),
+    "lyapunov_per_collision": ("largest Lyapunov exponent of the collision map, per collision", "1"),
+    "lyapunov_running": ("running estimate of the largest Lyapunov exponent per unit time after each block", "1"),
+    "elapsed_time": ("time from the first collision to the end of each block of the Lyapunov run", "1"),
+    "mean_free_time": ("mean time between collisions of the Lyapunov run", "1"),
     # ------------------------------------------------ analysis: Galton arrival curves (analysis.galton)
     "share_not_arrived_stderr": ("binomial standard error of share_not_arrived", "1"),
     "n_particles": ("number of particles", "1"),

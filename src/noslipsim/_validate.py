@@ -137,3 +137,12 @@ def count(value, field, minimum=1):
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
         raise ValueError(f"{field}: expected an integer >= {minimum}, got {value!r}")
     return int(value)
+
+
+def one_line(err):
+    """The message of an error on one line (an OSError as ``path: reason``): what the CLI and the explorer show."""
+    if isinstance(err, OSError) and err.filename is not None and err.strerror:
+        text = f"{err.filename}: {err.strerror}"
+    else:
+        text = str(err) or type(err).__name__
+    return " ".join(text.split())

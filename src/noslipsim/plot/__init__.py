@@ -26,20 +26,22 @@ Figure scripts read datasets and draw with these; they never simulate.
 """
 from .annotate import draw_angle, draw_ray, label_point
 from .checks import EmptyFigureError, load_figure_data, require_points
+from .flights import collision_frames, flight_states
 from .grids import draw_stability_grid
 from .numbers import numbers_markdown
 from .orbits import draw_orbit, draw_spin, mark_ends, orbit_nodes, orbit_path
 from .phase import draw_birkhoff, draw_layered_portrait, draw_reduced_portrait, orbit_colors
 from .portraits import draw_portrait, portrait_points
 from .save import save_figure
-from .stability import draw_class_boundary, draw_deviation, draw_return_points, draw_two_disk_setup, return_points
 from .sphere import sphere_path
+from .stability import draw_class_boundary, draw_deviation, draw_return_points, draw_two_disk_setup, return_points
 from .style import LAW_COLORS, STYLE, law_color, style_context, use_style
-from .table import auto_window, draw_table, scene_of
+from .table import auto_window, draw_table, scene_of, table_shapes, view_window
 
-__all__ = ["LAW_COLORS", "STYLE", "auto_window", "draw_orbit", "draw_portrait", "draw_spin",
-           "draw_stability_grid", "draw_table", "law_color", "mark_ends", "numbers_markdown", "orbit_nodes",
-           "orbit_path", "portrait_points", "save_figure", "scene_of", "style_context", "use_style"]
+__all__ = ["LAW_COLORS", "STYLE", "auto_window", "draw_orbit", "draw_portrait", "draw_spin", "draw_stability_grid",
+           "draw_table", "law_color", "mark_ends", "numbers_markdown", "orbit_nodes", "orbit_path",
+           "portrait_points", "save_figure", "scene_of", "style_context", "table_shapes", "use_style", "view_window"]
+__all__ += ["collision_frames", "flight_states"]
 __all__ += ["draw_angle", "draw_ray", "label_point", "sphere_path"]
 __all__ += ["draw_class_boundary", "draw_deviation", "draw_return_points", "draw_two_disk_setup", "return_points"]
 __all__ += ["draw_birkhoff", "draw_layered_portrait", "draw_reduced_portrait", "orbit_colors"]

@@ -53,10 +53,11 @@ def orbit_colors(n):
     return base[order][np.arange(int(n)) % len(base)]
 
 
-def _regular(portrait, regular):
-    n = portrait["vt_unit"].shape[0] if portrait["vt_unit"].ndim == 2 else 1
+def _regular(portrait, regular, name="vt_unit"):
+    """Per-orbit flags, checked against the number of orbits of variable ``name`` (read only when flags are given)."""
     if regular is None:
         return None
+    n = portrait[name].shape[0] if portrait[name].ndim == 2 else 1
     flags = np.asarray(regular.values if hasattr(regular, "values") else regular).astype(bool).ravel()
     if flags.shape != (n,):
         raise ValueError(f"regular: expected one flag per orbit ({n}), got shape {flags.shape}")
@@ -148,14 +149,14 @@ def draw_birkhoff(ax, portrait, regular=None, *, size=0.3, sea_color=SEA_COLOR, 
     regular : array_like of bool, optional
         As :func:`draw_layered_portrait` (sea underneath, regular on top).
     boundary_length : float, optional
-        Right end of the ``s`` axis (default: ``portrait.boundary_length`` if
-        present, else the largest ``s``).
+        Right end of the ``s`` axis (default: the portrait's
+        ``boundary_length``, a variable or an attribute, else the largest ``s``).
 
     Returns
     -------
     matplotlib.collections.PathCollection
     """
-    flags = _regular(portrait, regular)
+    flags = _regular(portrait, regular, "s_boundary")
     (s, p), orbit = _points(portrait, ("s_boundary", "sin_angle"))
     if (np.abs(p) > 1.0 + 1e-9).any():
         raise ValueError("portrait: sin_angle outside [-1, 1]")
@@ -163,7 +164,9 @@ def draw_birkhoff(ax, portrait, regular=None, *, size=0.3, sea_color=SEA_COLOR, 
     order = np.argsort(top, kind="stable")                     # sea first, regular on top
     pts = ax.scatter(s[order], p[order], s=size, c=colors[order], linewidths=0, rasterized=rasterized)
     if boundary_length is None:
-        boundary_length = float(portrait["boundary_length"]) if "boundary_length" in portrait else float(s.max())
+        # a variable of a portrait_set case, or the attribute analysis.birkhoff_coordinates writes
+        known = portrait["boundary_length"] if "boundary_length" in portrait else portrait.attrs.get("boundary_length")
+        boundary_length = float(known) if known is not None else float(s.max())
     ax.set_xlim(0.0, boundary_length)
     ax.set_ylim(-1.0, 1.0)
     ax.set_xlabel(r"$s$")
@@ -204,7 +207,9 @@ def draw_reduced_portrait(ax, portrait, regular=None, *, size=0.3, sea_color=SEA
     if (np.hypot(vt, w) > 1.0 + 1e-9).any():
         raise ValueError("portrait: a point lies off the unit disk")
     if boundary_length is None:
-        boundary_length = float(portrait["boundary_length"]) if "boundary_length" in portrait else float(s.max())
+        # a variable of a portrait_set case, or the attribute analysis.birkhoff_coordinates writes
+        known = portrait["boundary_length"] if "boundary_length" in portrait else portrait.attrs.get("boundary_length")
+        boundary_length = float(known) if known is not None else float(s.max())
     colors, top = _colors_for(orbit, flags, sea_color)
     out = {"sea": None, "regular": None}
     sea = ~top

@@ -17,8 +17,8 @@ from matplotlib.patches import Arc as ArcPatch
 from matplotlib.patches import Circle as CirclePatch
 from matplotlib.patches import Polygon
 
-from ..elements import Arc, Circle, Line, Segment
 from .._engine.lattice import lattice_matrix
+from ..elements import Arc, Circle, Line, Segment
 from ..scenes import Scene
 from .style import SCATTERER_COLOR, WALL_COLOR
 
@@ -90,6 +90,70 @@ def auto_window(scene):
     x1, y1 = boxes[:, 2].max(), boxes[:, 3].max()
     m = AUTO_MARGIN * max(x1 - x0, y1 - y0)
     return x0 - m, x1 + m, y0 - m, y1 + m
+
+
+def view_window(scene, points=None, *, cells=1, margin=0.1):
+    """A window that shows the table of any scene, and ``points`` with it.
+
+    Plain scenes show every finite element and the anchor point of every
+    infinite line (``point`` in the scene file), so a floor under a peg is in
+    view; a table of lines only shows a square of side ``2 * scene.scale``
+    around their anchors.  Periodic scenes show cell 0 and ``cells`` cells on
+    every side of it.  ``points`` (an orbit's path) are joined in.
+
+    Parameters
+    ----------
+    scene : Scene
+    points : (array_like, array_like), optional
+        ``(x, y)`` to keep in view (non-finite values ignored).
+    cells : int
+        Lattice cells shown on each side of cell 0 (periodic scenes).
+    margin : float
+        Margin added on every side, relative to the larger side of the box.
+
+    Returns
+    -------
+    (x0, x1, y0, y1)
+    """
+    scene = scene_of(scene)
+    corners = []
+    if scene.lattice is not None:
+        A, _ = lattice_matrix(scene.lattice)
+        k = int(cells)
+        for n1 in (-k, k + 1):
+            for n2 in (-k, k + 1):
+                corners.append(A @ np.array([n1 - 0.5, n2 - 0.5]))
+    else:
+        for e in scene.elements:
+            if isinstance(e, Line):
+                corners.append(np.asarray(e.point, float))
+            else:
+                x0, y0, x1, y1 = _tight_box(e)
+                corners += [np.array([x0, y0]), np.array([x1, y1])]
+        if all(isinstance(e, Line) for e in scene.elements):
+            c = np.mean(corners, axis=0)
+            corners += [c - scene.scale, c + scene.scale] if scene.scale > 0 else [c - 1.0, c + 1.0]
+    pts = np.array(corners, float).reshape(-1, 2)
+    if points is not None:
+        px, py = (np.asarray(a, float).ravel() for a in points)
+        ok = np.isfinite(px) & np.isfinite(py)
+        pts = np.concatenate([pts, np.c_[px[ok], py[ok]]])
+    x0, y0 = pts.min(axis=0)
+    x1, y1 = pts.max(axis=0)
+    pad = margin * max(x1 - x0, y1 - y0, 1e-9 * max(abs(x0), abs(y0), 1.0))
+    return float(x0 - pad), float(x1 + pad), float(y0 - pad), float(y1 + pad)
+
+
+def _tight_box(e):
+    """The bounding box of an element; an arc's is its ends and the axis points it passes through."""
+    if not isinstance(e, Arc):
+        return e.bbox()
+    span = (e.theta1 - e.theta0) % (2 * math.pi) or 2 * math.pi
+    angles = [e.theta0, e.theta0 + span] + [k * math.pi / 2 for k in range(8)
+                                             if 0.0 <= (k * math.pi / 2 - e.theta0) % (2 * math.pi) <= span]
+    xs = [e.center[0] + e.radius * math.cos(a) for a in angles]
+    ys = [e.center[1] + e.radius * math.sin(a) for a in angles]
+    return min(xs), min(ys), max(xs), max(ys)
 
 
 def _clip_half_plane(box, point, normal):
@@ -221,3 +285,49 @@ def draw_table(ax, scene, window=None, *, wall_color=WALL_COLOR, scatterer_color
     ax.set_ylim(y0, y1)
     ax.set_aspect("equal")
     return box
+
+
+#: Points per full turn when a circle or an arc is given as a polyline (:func:`table_shapes`).
+CURVE_POINTS = 180
+
+
+def table_shapes(scene, window):
+    """The table in ``window`` as plain polylines, for drawing libraries other than matplotlib.
+
+    Parameters
+    ----------
+    scene : Scene
+    window : (x0, x1, y0, y1)
+        The region shown; a periodic scene gives every copy meeting it.
+
+    Returns
+    -------
+    dict
+        ``walls``: list of ``(xs, ys)`` polylines (segments, arcs, containers,
+        the visible chord of each infinite line); ``discs``: list of
+        ``(x, y, r)`` scatterers (the table outside them); ``shades``: list of
+        ``(xs, ys)`` polygons, the part of the window behind each infinite line.
+    """
+    scene = scene_of(scene)
+    box = _window(window)
+    walls, discs, shades = [], [], []
+    for e, dx, dy in _copies(scene, box):
+        if isinstance(e, Line):
+            p = (e.point[0] + dx, e.point[1] + dy)
+            shade = _clip_half_plane(box, p, e.normal)
+            if len(shade) >= 3:
+                shades.append(([q[0] for q in shade], [q[1] for q in shade]))
+            seg = _clip_line(box, p, (-e.normal[1], e.normal[0]))
+            if seg is not None:
+                walls.append(([seg[0][0], seg[1][0]], [seg[0][1], seg[1][1]]))
+        elif isinstance(e, Segment):
+            walls.append(([e.p0[0] + dx, e.p1[0] + dx], [e.p0[1] + dy, e.p1[1] + dy]))
+        elif isinstance(e, Circle) and e.side == "outside":
+            discs.append((e.center[0] + dx, e.center[1] + dy, e.radius))
+        else:  # a container circle or an arc
+            t0 = 0.0 if isinstance(e, Circle) else e.theta0
+            span = 2 * math.pi if isinstance(e, Circle) else (e.theta1 - e.theta0) % (2 * math.pi) or 2 * math.pi
+            a = t0 + np.linspace(0.0, span, max(8, int(CURVE_POINTS * span / (2 * math.pi))))
+            walls.append(((e.center[0] + dx + e.radius * np.cos(a)).tolist(),
+                          (e.center[1] + dy + e.radius * np.sin(a)).tolist()))
+    return {"walls": walls, "discs": discs, "shades": shades}

@@ -1,8 +1,11 @@
-"""Command line: ``noslipsim simulate``, ``noslipsim plot``, ``noslipsim run``.
+"""Command line: ``noslipsim simulate | plot | run | portrait | ensemble | periodic | lyapunov | animate | explore``.
 
 ``noslipsim simulate SCENE.yaml --position X Y --velocity VX VY [--spin W] -n N [-o orbit.nc]``
 ``noslipsim plot SCENE.yaml --position X Y --velocity VX VY [--spin W] -n N -o orbit.png``
-``noslipsim run CONFIG.yaml -o dataset.nc``
+``noslipsim run CONFIG.yaml -o dataset.nc`` (the paper's experiments)
+``noslipsim portrait|ensemble|periodic|lyapunov SCENE.yaml ... -o out.nc [--figure out.png]``
+(:mod:`.analyses`: every analysis for a scene file of one's own)
+``noslipsim animate SCENE.yaml ... -o orbit.gif|mp4``, ``noslipsim explore SCENE.yaml`` (:mod:`.media`)
 
 Every mistake a user can make (a missing or unreadable file, a YAML syntax
 error, an unknown key, a wrong type, a start outside the table, a bad number)
@@ -17,25 +20,8 @@ import argparse
 import math
 import sys
 
-from ._version import __version__
-
-#: Exit status of a user error (as argparse uses for a bad command line).
-EXIT_USAGE = 2
-#: Exit status of an unexpected failure (a bug: rerun with --debug and report it).
-EXIT_INTERNAL = 1
-
-#: API field names as the options that set them, so a message names what the user typed.
-_OPTIONS = {
-    "position": "--position", "velocity": "--velocity", "spin": "--spin",
-    "max_collisions": "-n/--max-collisions", "max_time": "--max-time", "stop_below": "--stop-below",
-}
-
-
-class _Parser(argparse.ArgumentParser):
-    """argparse with its errors on one line, in the same form as every other error."""
-
-    def error(self, message):
-        self.exit(EXIT_USAGE, f"noslipsim: error: {message} (see '{self.prog} --help')\n")
+from .._version import __version__
+from .options import EXIT_INTERNAL, EXIT_USAGE, _orbit_arguments, _Parser, _start_errors
 
 
 def _parser():
@@ -65,27 +51,33 @@ def _parser():
                    help="draw the particle with a spin arrow on every K-th flight")
     f.add_argument("--debug", **debug)
 
-    r = sub.add_parser("run", help="run an experiment from a YAML config and write its dataset")
-    r.add_argument("config", help="YAML: {experiment: NAME, parameters: {...}}")
+    r = sub.add_parser("run", help="run one of the paper's experiments from a YAML config and write its dataset",
+                       description="Runs one of the paper's experiments (noslipsim.experiments) with keyword "
+                                   "parameters from a YAML config. For a scene file of your own use portrait, "
+                                   "ensemble, periodic or lyapunov.",
+                       epilog="experiments: " + ", ".join(sorted(_experiment_names())))
+    r.add_argument("config", help="YAML: {experiment: NAME, parameters: {...}}; NAME one of the experiments below")
     r.add_argument("-o", "--output", required=True, help="netCDF file to write")
     r.add_argument("--debug", **debug)
+
+    from . import analyses, media
+
+    COMMANDS.update(analyses.add_commands(sub, debug))
+    COMMANDS.update(media.add_commands(sub, debug))
     return p
 
 
-def _orbit_arguments(p, default_n):
-    p.add_argument("scene", help="scene file (YAML; format in docs/scenes.md)")
-    p.add_argument("--position", nargs=2, type=float, required=True, metavar=("X", "Y"))
-    p.add_argument("--velocity", nargs=2, type=float, required=True, metavar=("VX", "VY"))
-    p.add_argument("--spin", type=float, default=0.0, help="scaled spin w = gamma R omega (CCW positive)")
-    p.add_argument("-n", "--max-collisions", type=int, default=default_n,
-                   help=f"number of collisions (default {default_n})")
+def _experiment_names():
+    from ..experiments import EXPERIMENTS
+
+    return EXPERIMENTS
 
 
 # ---------------------------------------------------------------------------- commands
 def _simulate(args):
-    from .io import write_dataset
-    from .scenes import Scene
-    from .simulate import simulate
+    from ..io import write_dataset
+    from ..scenes import Scene
+    from ..simulate import simulate
 
     scene = Scene.from_yaml(args.scene)
     ds = _start_errors(simulate, scene, args.position, args.velocity, args.spin,
@@ -105,9 +97,9 @@ def _plot(args):
     matplotlib.use("Agg")  # files only: no display needed
     import matplotlib.pyplot as plt
 
-    from . import plot
-    from .scenes import Scene
-    from .simulate import simulate
+    from .. import plot
+    from ..scenes import Scene
+    from ..simulate import simulate
 
     scene = Scene.from_yaml(args.scene)
     orbit = _start_errors(simulate, scene, args.position, args.velocity, args.spin,
@@ -137,34 +129,16 @@ def _plot(args):
 
 
 def _plot_window(scene, x, y):
-    """The orbit's bounding box, joined with the elements' for a plain scene without lines, plus a margin."""
-    from . import plot
+    """The table's elements (lines by their anchor, lattices by a few cells) and the whole orbit."""
+    from .. import plot
 
-    x0, x1, y0, y1 = float(x.min()), float(x.max()), float(y.min()), float(y.max())
-    try:
-        a0, a1, b0, b1 = plot.auto_window(scene)
-        x0, x1, y0, y1 = min(x0, a0), max(x1, a1), min(y0, b0), max(y1, b1)
-    except ValueError:  # lines or a lattice: the orbit decides
-        pass
-    pad = 0.1 * max(x1 - x0, y1 - y0, 1e-9 * max(abs(x0), abs(y0), 1.0))
-    return x0 - pad, x1 + pad, y0 - pad, y1 + pad
-
-
-def _start_errors(func, *args, **kwargs):
-    """Call ``func``; a ValueError naming an API field is re-worded with the option that sets it."""
-    try:
-        return func(*args, **kwargs)
-    except ValueError as err:
-        field, sep, rest = str(err).partition(":")
-        if sep and field in _OPTIONS:
-            raise ValueError(f"{_OPTIONS[field]}:{rest}") from err
-        raise
+    return plot.view_window(scene, (x, y))
 
 
 def _run_experiment(args):
-    from ._validate import read_yaml
-    from .experiments import EXPERIMENTS
-    from .io import write_dataset
+    from .._validate import read_yaml
+    from ..experiments import EXPERIMENTS
+    from ..io import write_dataset
 
     cfg, where = read_yaml(args.config, "config")
     if not isinstance(cfg, dict) or "experiment" not in cfg or set(cfg) - {"experiment", "parameters"}:
@@ -208,11 +182,9 @@ COMMANDS = {"simulate": _simulate, "plot": _plot, "run": _run_experiment}
 # ---------------------------------------------------------------------------- entry point
 def _one_line(err):
     """The message of an error on one line (an OSError as ``path: reason``)."""
-    if isinstance(err, OSError) and err.filename is not None and err.strerror:
-        text = f"{err.filename}: {err.strerror}"
-    else:
-        text = str(err) or type(err).__name__
-    return " ".join(text.split())
+    from .._validate import one_line
+
+    return one_line(err)
 
 
 def main(argv=None):

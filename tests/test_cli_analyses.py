@@ -1,0 +1,147 @@
+"""Every analysis for a scene file of one's own from the shell: portrait, ensemble, periodic, lyapunov, animate.
+
+Each command's dataset is checked against the library call it stands for
+(the same numbers), its figure for existence, its mistakes for the one-line
+error; ``run --help`` names the experiments; ``noslipsim plot`` of a table
+with an infinite line shows the table.
+"""
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+from test_cli import assert_one_line_error, run_main
+
+import noslipsim as ns
+from noslipsim import analysis
+from noslipsim.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+BOX = str(ROOT / "examples" / "sinai_box.yaml")
+PEG = str(ROOT / "examples" / "galton_peg.yaml")
+SPECULAR_BOX = "law: specular\nelements:\n" + "".join(
+    f"  - {{type: segment, p0: {a}, p1: {b}, side: left}}\n"
+    for a, b in (([0, 0], [1, 0]), ([1, 0], [1, 1]), ([1, 1], [0, 1]), ([0, 1], [0, 0]))
+) + "  - {type: circle, center: [0.5, 0.5], radius: 0.3, side: outside}\n"
+
+
+@pytest.fixture
+def specular_box(tmp_path):
+    path = tmp_path / "specular_box.yaml"
+    path.write_text(SPECULAR_BOX)
+    return str(path)
+
+
+def test_portrait_of_a_specular_scene_is_birkhoff_and_a_no_slip_one_velocity(tmp_path, specular_box, capsys):
+    assert main(["portrait", specular_box, "--orbits", "3", "-n", "50", "-o", str(tmp_path / "b.nc"),
+                 "--figure", str(tmp_path / "b.png")]) == 0
+    b = xr.open_dataset(tmp_path / "b.nc")
+    assert b.attrs["portrait"] == "birkhoff" and "sin_angle" in b and (tmp_path / "b.png").stat().st_size > 0
+    again = analysis.birkhoff_coordinates(b)  # the stored coordinates are the library's
+    np.testing.assert_array_equal(again.sin_angle.values, b.sin_angle.values)
+    assert main(["portrait", BOX, "--orbits", "3", "-n", "50", "-o", str(tmp_path / "v.nc")]) == 0
+    v = xr.open_dataset(tmp_path / "v.nc")
+    assert v.attrs["portrait"] == "velocity" and "sin_angle" not in v
+    ref = ns.experiments.phase_portrait(ns.Scene.from_yaml(BOX), n_orbits=3, n_collisions=50, seed=0,
+                                        elements=[0, 1, 2, 3, 4], progress=False)
+    np.testing.assert_array_equal(v.vt_unit.values, ref.vt_unit.values)
+    assert "wrote velocity portrait of 3 orbits" in capsys.readouterr().out
+
+
+def test_ensemble_is_simulate_many_from_one_point(tmp_path):
+    out = tmp_path / "e.nc"
+    assert main(["ensemble", PEG, "--position", "0.2", "2.5", "--orbits", "20", "-n", "10", "--seed", "3",
+                 "-o", str(out), "--figure", str(tmp_path / "e.png")]) == 0
+    e = xr.open_dataset(out)
+    v = ns.initial.unit_velocities(20, seed=3)
+    ref = ns.simulate_many(ns.Scene.from_yaml(PEG), [[0.2, 2.5]] * 20, v, max_collisions=10, record="final",
+                           scheduler="sync")
+    np.testing.assert_array_equal(e.x_final.values, ref.x_final.values)
+    assert (tmp_path / "e.png").stat().st_size > 0
+
+
+def test_periodic_finds_an_orbit_that_closes(tmp_path, capsys):
+    out = tmp_path / "p.nc"
+    assert main(["periodic", BOX, "--position", "0.1", "0.52", "--velocity", "1", "0.01", "--period", "2",
+                 "-o", str(out), "--figure", str(tmp_path / "p.png")]) == 0
+    p = xr.open_dataset(out)
+    assert int(p.period) == 2 and float(p.residual) < 1e-10 and str(p.linear_kind.values) == "elliptic"
+    # the written orbit repeats its post-collision state every 2 collisions
+    for k in ("x", "y", "vx", "vy", "spin"):
+        np.testing.assert_allclose(p[k].values[2:], p[k].values[:-2], atol=1e-9, err_msg=k)
+    assert "found a 2-periodic orbit" in capsys.readouterr().out
+
+
+def test_lyapunov_matches_the_library_and_is_positive_for_a_specular_sinai_box(tmp_path, specular_box):
+    out = tmp_path / "l.nc"
+    assert main(["lyapunov", specular_box, "--position", "0.1", "0.12", "--velocity", "0.6", "0.8",
+                 "--max-time", "300", "-o", str(out), "--figure", str(tmp_path / "l.png")]) == 0
+    lam = float(xr.open_dataset(out).lyapunov_exponent)
+    ref = analysis.lyapunov(ns.Scene.from_yaml(specular_box), (0.1, 0.12), (0.6, 0.8), max_time=300)
+    assert lam == ref and lam > 0.3
+
+
+def test_animate_writes_a_gif_of_several_orbits(tmp_path, capsys):
+    out = tmp_path / "a.gif"
+    assert main(["animate", PEG, "--position", "0.3", "2.2", "--velocity", "0.5", "0", "--spin", "0.4",
+                 "--position", "-1", "2", "--velocity", "0.2", "0.3", "--spin", "0", "-n", "4",
+                 "--duration", "1", "--fps", "8", "--dpi", "30", "-o", str(out)]) == 0
+    from PIL import Image
+
+    with Image.open(out) as im:
+        assert im.n_frames == 8
+    assert "wrote" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv, fragments", [
+    (["portrait", BOX, "--orbits", "0", "-o", "x.nc"], ["--orbits: must be >= 1"]),
+    (["portrait", BOX, "--figure", "x.abc", "--orbits", "1", "-n", "5", "-o", "{tmp}/x.nc"],
+     ["--figure: unknown image format"]),
+    (["ensemble", BOX, "--position", "0.5", "0.5", "-o", "x.nc"], ["--position", "not strictly inside the table"]),
+    (["ensemble", BOX, "--position", "0.1", "0.1", "--speed", "0", "-o", "x.nc"], ["--speed: must be finite and > 0"]),
+    (["periodic", BOX, "--position", "0.1", "0.1", "--velocity", "1", "0", "--period", "0", "-o", "x.nc"],
+     ["--period: must be >= 1"]),
+    (["lyapunov", BOX, "--position", "0.5", "0.5", "--velocity", "1", "0", "-o", "x.nc"], ["--position"]),
+    (["animate", BOX, "--position", "0.1", "0.1", "--velocity", "1", "0", "--velocity", "1", "1", "-o", "x.gif"],
+     ["--velocity: give one per --position (1), got 2"]),
+    (["animate", BOX, "--position", "0.1", "0.1", "--velocity", "1", "0", "-o", "x.avi"], ["expected one of"]),
+    (["explore", BOX, "--port", "70000", "--no-browser"], ["--port: expected 0 to 65535"]),
+])
+def test_mistakes_are_one_line(argv, fragments, capsys, tmp_path):
+    argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]
+    status, err = run_main(argv, capsys)
+    assert_one_line_error(status, err, *fragments)
+
+
+def test_run_help_lists_the_experiments_and_start_options_have_help(capsys):
+    with pytest.raises(SystemExit):
+        main(["run", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    for name in ns.experiments.EXPERIMENTS:
+        assert name in text
+    with pytest.raises(SystemExit):
+        main(["simulate", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "--position X Y start point, strictly inside the table" in text
+    assert "--velocity VX VY initial velocity" in text
+
+
+def test_submodules_are_attributes_of_the_package():
+    assert ns.experiments.EXPERIMENTS["galton_distribution"] is ns.experiments.galton_distribution
+    assert ns.tables.lemon is not None and ns.analysis.lyapunov is not None
+    with pytest.raises(AttributeError, match="no attribute 'nothing'"):
+        ns.nothing  # noqa: B018
+
+
+def test_plot_of_a_table_with_an_infinite_line_shows_the_table():
+    from noslipsim.cli import _plot_window
+
+    scene = ns.Scene.from_yaml(PEG)  # a floor (line), a peg, an arc of radius 3 from (3, 0) over to (-3, 0)
+    x0, x1, y0, y1 = _plot_window(scene, np.array([0.1, 0.2]), np.array([1.8, 2.0]))
+    assert x0 < -3 and x1 > 3 and y0 <= 0 and y1 > 3
+    assert y0 > -1  # the arc's box, not the whole circle's
+    torus = ns.tables.sinai_torus(0.25)
+    x0, x1, y0, y1 = _plot_window(torus, np.array([0.4]), np.array([0.1]))
+    assert x0 <= -1.5 and x1 >= 1.5  # cell 0 and one cell on every side
+    assert math.isfinite(x0 + x1 + y0 + y1)

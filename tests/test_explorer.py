@@ -1,0 +1,253 @@
+"""The explorer's server-side state: launches land where the click says, orbits are the kernel's, requests are capped.
+
+Oracles: :func:`noslipsim.simulate` (an explorer orbit is the same orbit,
+however often it was refilled); the portrait coordinates of the launched
+state, computed back by :func:`noslipsim.analysis.log_portrait.log_portrait`
+(a click at ``(x, y)`` launches the state whose portrait point is ``(x, y)``);
+the scene's depth (a step lands the particle on the wall).  No browser here
+(tests/test_explorer_browser.py drives the page).
+"""
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("panel", reason="the explorer needs the 'explore' extra (Panel, Bokeh)")
+
+import noslipsim as ns
+from noslipsim import tables
+from noslipsim.analysis.log_portrait import log_portrait
+from noslipsim.explorer.session import FIRST_BUDGET, Explorer, Limits
+
+ROOT = Path(__file__).resolve().parents[1]
+BOX = ns.Scene.from_yaml(str(ROOT / "examples" / "sinai_box.yaml"))
+LEMON = tables.lemon(1.0, 1.0)  # specular: the Birkhoff portrait
+
+
+def _log(scene, start, n):
+    return ns.simulate(scene, start["position"], start["velocity"], start["spin"], max_collisions=n)
+
+
+def test_an_orbit_is_the_kernels_orbit_through_every_refill():
+    ex = Explorer(BOX)
+    o = ex.launch([0.1, 0.1], [0.6, 0.8])
+    assert o.collisions == FIRST_BUDGET and o.budget == FIRST_BUDGET
+    ex.set_speed(1000.0)
+    for _ in range(3):
+        ex.advance(1.0)  # the clock runs past the computed part: refilled, budget doubled
+    assert o.budget >= 4 * FIRST_BUDGET
+    ref = _log(BOX, o.start, o.collisions)
+    for k in ("t", "x", "y", "vx", "vy", "spin"):
+        np.testing.assert_array_equal(o.nodes[k][1:], ref[k].values, err_msg=k)
+    e = o.energy
+    assert np.max(np.abs(e - e[0])) < 1e-12
+
+
+def test_a_click_in_the_birkhoff_portrait_launches_that_point():
+    ex = Explorer(LEMON)
+    assert ex.portrait == "birkhoff"
+    s, p = 1.3, -0.42
+    o = ex.launch_from_portrait(s, p, speed=2.0)
+    st = o.start
+    assert st["element"] >= 0 and math.hypot(*st["velocity"]) == pytest.approx(2.0)
+    # the launched state, read as a post-collision state on its element, has portrait coordinates (s, p)
+    e = LEMON.elements[st["element"]]
+    theta = math.atan2(st["position"][1] - e.center[1], st["position"][0] - e.center[0]) % (2 * math.pi)
+    local = e.radius * ((theta - e.theta0) % (2 * math.pi))
+    x, y = log_portrait(LEMON, [st["element"]], [local], [st["velocity"][0]], [st["velocity"][1]], [0.0], "birkhoff")
+    assert x[0] == pytest.approx(s, abs=1e-12) and y[0] == pytest.approx(p, abs=1e-12)
+
+
+def test_a_click_in_the_velocity_portrait_launches_that_point_from_the_launch_mark():
+    ex = Explorer(BOX)
+    assert ex.portrait == "velocity"
+    vt, w = 0.31, -0.52
+    o = ex.launch_from_portrait(vt, w, speed=1.0, s_launch=0.25)  # a quarter along the bottom wall
+    st = o.start
+    assert st["element"] == 0 and st["position"] == pytest.approx([0.25, 0.0], abs=1e-15)
+    x, y = log_portrait(BOX, [0], [0.25], [st["velocity"][0]], [st["velocity"][1]], [st["spin"]], "velocity")
+    assert x[0] == pytest.approx(vt, abs=1e-14) and y[0] == pytest.approx(w, abs=1e-14)
+    ref = ns.simulate_many(BOX, [st["position"]], [st["velocity"]], [st["spin"]], start_elements=[0],
+                           max_collisions=50, record="log", scheduler="sync")
+    np.testing.assert_array_equal(o.nodes["x"][1:51], ref.x.values[0])
+
+
+def test_a_drag_launches_a_parallel_beam_centred_on_its_start():
+    ex = Explorer(BOX)
+    orbits = ex.launch_beam((0.1, 0.15), (0.4, 0.55), n=5, speed=2.0, width=0.04)
+    assert len(orbits) == 5
+    u = np.array([0.3, 0.4]) / 0.5
+    starts = np.array([o.start["position"] for o in orbits])
+    for o in orbits:
+        np.testing.assert_allclose(o.start["velocity"], 2.0 * u, rtol=1e-15)
+    np.testing.assert_allclose(starts.mean(axis=0), [0.1, 0.15], atol=1e-15)
+    across = (starts - [0.1, 0.15]) @ np.array([-u[1], u[0]])
+    np.testing.assert_allclose(np.diff(across), 0.01, rtol=1e-12)  # spread across the direction, 0.04 in all
+    np.testing.assert_allclose((starts - [0.1, 0.15]) @ u, 0.0, atol=1e-15)
+
+
+def test_beam_starts_outside_the_table_are_left_out_and_said():
+    ex = Explorer(BOX)
+    orbits = ex.launch_beam((0.5, 0.19), (1.0, 0.19), n=3, width=0.04)  # y = 0.17, 0.19, 0.21: the last in the disk
+    assert len(orbits) == 2 and "1 of the beam's 3 starts lie outside" in ex.message
+
+
+@pytest.mark.parametrize("request_, message", [
+    (lambda ex: ex.launch_beam((0.1, 0.1), (0.2, 0.2), n=101), "at most 100 per launch"),
+    (lambda ex: ex.launch_beam((0.1, 0.1), (0.1, 0.1)), "give the direction by dragging"),
+    (lambda ex: ex.launch_beam((0.5, 0.5), (0.6, 0.6)), "not inside the table"),
+    (lambda ex: ex.launch_beam((0.1, 0.1), (0.2, 0.2), speed=0.0), "launch speed: must be > 0"),
+    (lambda ex: ex.launch_from_portrait(0.9, 0.5), "outside the unit disk"),
+    (lambda ex: ex.launch_from_portrait(0.1, 0.1, s_launch=99.0), "launch point s: must lie in"),
+    (lambda ex: ex.set_speed(1e9), "speed: must be in"),
+    (lambda ex: ex.set_speed(float("nan")), "speed: must be finite"),
+    (lambda ex: ex.set_physics(force_strength=-1.0), "the strength must be >= 0"),
+    (lambda ex: ex.set_physics(gamma=-0.5), "gamma: must be >= 0"),
+])
+def test_refused_requests_say_why_in_one_line(request_, message):
+    ex = Explorer(BOX)
+    with pytest.raises(ValueError, match=message) as err:
+        request_(ex)
+    assert "\n" not in str(err.value)
+    assert ex.orbits == []
+
+
+def test_orbits_alive_are_capped():
+    ex = Explorer(BOX, Limits(max_orbits=6, max_beam=5))
+    ex.launch_beam((0.1, 0.1), (0.2, 0.2), n=5, width=0.02)
+    with pytest.raises(ValueError, match=r"at most 6 orbits at once \(5 running, 2 asked for\); press reset"):
+        ex.launch_beam((0.1, 0.1), (0.2, 0.2), n=2, width=0.02)
+    assert len(ex.orbits) == 5
+    ex.reset()
+    assert ex.orbits == [] and ex.clock == 0.0
+
+
+def test_collisions_per_orbit_and_per_frame_are_capped():
+    ex = Explorer(BOX, Limits(max_collisions=1500, frame_collisions=2000))
+    a = ex.launch([0.1, 0.1], [0.6, 0.8])
+    b = ex.launch([0.9, 0.1], [-0.6, 0.8])
+    ex.set_speed(5000.0)
+    ex.advance(1.0)  # both need a refill of 1500; the frame's budget of 2000 covers one
+    assert sorted([a.budget, b.budget]) == [1000, 1500]
+    ex.advance(1.0)
+    assert a.budget == b.budget == 1500 and a.collisions == b.collisions == 1500
+    assert a.stop_reason == b.stop_reason == "limit" and a.complete
+
+
+def test_the_frame_streams_each_collision_once_and_steps_land_on_the_wall():
+    ex = Explorer(BOX)
+    o = ex.launch([0.1, 0.1], [0.6, 0.8])
+    sent = 0
+    for _ in range(5):
+        frame = ex.step()
+        sent += len(frame["portrait"]["x"])
+        p = frame["particles"]
+        assert abs(BOX.depth(np.array([[p["x"][0], p["y"][0]]]))[0]) < 1e-12  # drawn on the wall it hits
+    assert sent == 5 == ex.readout()["collisions"]
+    np.testing.assert_array_equal(frame["portrait"]["x"], o.marks[0][4:5])
+    assert ex.readout()["energy_error"] < 1e-14
+
+
+def test_changing_the_law_recomputes_the_orbits_and_switches_the_portrait():
+    ex = Explorer(BOX)
+    o = ex.launch([0.1, 0.1], [0.6, 0.8])
+    ex.advance(3.0)
+    ex.set_physics(law="specular")
+    assert ex.portrait == "birkhoff" and ex.clock == 0.0
+    (o2,) = ex.orbits
+    assert o2.start == o.start
+    ref = ns.simulate(BOX.replace(law="specular"), [0.1, 0.1], [0.6, 0.8], max_collisions=20)
+    np.testing.assert_array_equal(o2.nodes["x"][1:21], ref.x.values)
+    ex.set_physics(force_strength=0.5)  # along gravity for a scene without force
+    assert ex.scene.force == (0.0, -0.5)
+
+
+def test_a_periodic_scene_is_drawn_folded_into_cell_zero():
+    scene = tables.sinai_torus(0.25)
+    ex = Explorer(scene)
+    ex.launch([0.4, 0.1], [0.6, 0.8])
+    ex.set_speed(50.0)
+    frame = ex.advance(1.0)
+    x, y = frame["particles"]["x"][0], frame["particles"]["y"][0]
+    assert -0.5 <= x <= 0.5 and -0.5 <= y <= 0.5
+    t = frame["trails"]
+    assert len(t["x0"]) > 0 and np.max(np.abs(t["x0"])) <= 0.5 and np.max(np.abs(t["y0"])) <= 0.5
+
+
+def test_the_server_accepts_only_its_own_origin_and_reads_only_its_scene(tmp_path, capsys):
+    from noslipsim.cli import main
+    from noslipsim.explorer.server import allowed_origins, load_scene
+
+    assert allowed_origins("127.0.0.1", 5006) == ["127.0.0.1:5006", "localhost:5006"]
+    assert allowed_origins("192.0.2.7", 80) == ["192.0.2.7:80"]
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("law: no-slip\nelements:\n  - {type: circle, center: [0, 0], radius: -1, side: inside}\n")
+    scene, error = load_scene(bad)
+    assert scene is None
+    assert main(["simulate", str(bad), "--position", "0", "0", "--velocity", "1", "0"]) == 2
+    assert error == capsys.readouterr().err.strip()  # the page shows the CLI's line
+
+
+def test_the_portrait_raster_paints_each_point_at_its_pixel_in_its_colour():
+    from noslipsim.explorer.raster import PortraitRaster
+
+    r = PortraitRaster((-1.0, 1.0, -1.0, 1.0), ["#ff0000", "#00ff00"], size=10, dot=1)
+    r.paint([-0.95, 0.55, 0.0, 5.0], [-0.95, 0.05, 0.99, 0.0], [0, 1, 0, 1])  # the last lies outside: dropped
+    assert r.points == 3 and np.count_nonzero(r.image) == 3
+    red, green = 0xFF0000FF, 0xFF00FF00  # RGBA bytes little-endian: R in the lowest byte
+    assert r.image[0, 0] == red and r.image[5, 7] == green and r.image[9, 5] == red
+    r.paint([0.55], [0.05], [0])  # the latest point is on top
+    assert r.image[5, 7] == red
+    r.clear()
+    assert r.points == 0 and not r.image.any()
+
+
+def test_the_command_serves_the_page_on_the_loopback_address():
+    """``noslipsim explore`` from a fresh process: the line it prints names 127.0.0.1, and that URL serves the app."""
+    import re
+    import subprocess
+    import sys
+    import time
+    import urllib.request
+
+    scene_file = str(ROOT / "examples" / "sinai_box.yaml")
+    argv = [sys.executable, "-m", "noslipsim.cli", "explore", scene_file, "--port", "0", "--no-browser"]
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        line = proc.stdout.readline()
+        url = re.search(r"http://127\.0\.0\.1:\d+/", line)
+        assert url, line
+        end, page = time.monotonic() + 120, None
+        while page is None and time.monotonic() < end:
+            try:
+                page = urllib.request.urlopen(url.group(0), timeout=30).read().decode()
+            except OSError:
+                time.sleep(0.2)
+        assert page is not None and "Bokeh" in page and "sinai_box.yaml" in page
+    finally:
+        proc.terminate()
+        proc.wait(timeout=30)
+
+
+def test_the_server_waits_for_a_page_that_falls_behind():
+    """More than MAX_IN_FLIGHT frames not yet drawn by the page: ticks send nothing until it acknowledges them."""
+    import time
+
+    from noslipsim.explorer.app import ACK_TIMEOUT, MAX_IN_FLIGHT, ExplorerApp
+
+    app = ExplorerApp(BOX)
+    app.model.launch([0.1, 0.1], [0.6, 0.8])
+    app._on_ack("tags", [], [0])  # the page answered just now, and has drawn nothing
+    for _ in range(MAX_IN_FLIGHT + 3):
+        app._ack_at = time.perf_counter()  # the page answered just now, however slow this machine is
+        app.tick()
+    assert app._sent == MAX_IN_FLIGHT + 1  # then it waits
+    clock = app.model.clock
+    app._on_ack("tags", [], [app._sent])  # the page caught up
+    app.tick()
+    assert app._sent == MAX_IN_FLIGHT + 2 and app.model.clock > clock
+    app._ack_at -= ACK_TIMEOUT  # a page silent for ACK_TIMEOUT: nothing is taken to be in flight
+    app._sent += MAX_IN_FLIGHT + 5
+    app.tick()
+    assert app._acked == app._sent - 1
