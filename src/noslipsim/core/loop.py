@@ -105,7 +105,8 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
     ``thermostat=True`` flies the force with the Gaussian isokinetic
     thermostat (:mod:`thermostat`, :mod:`thermo_events`); ``False`` (or
     ``force=False``) compiles no code of it: each of its branches opens with
-    the compile-time constant ``THERMO_ANY``, which numba prunes before typing.
+    the compile-time constant ``THERMO_ANY``, which numba prunes before typing
+    (and ``thermostat=True`` with ``force=True`` prunes the free fall likewise).
     """
     if disks:
         return disk_lattice_kernel(spin, mode)
@@ -121,6 +122,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
     WALLS = walls is None or bool(walls)  # a compile-time constant: False drops the long-wall check
     # thermostatted flights: compiled in only where they may run (never without a force)
     THERMO_ANY = force is not False and thermostat is not False
+    THERMO_ALWAYS = force is True and thermostat is True  # no free fall compiled at all
     THERMO_RT = thermostat is None
 
     @jit
@@ -186,13 +188,11 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
         thermo = False
         potential = has_force
         E = 0.0
-        fx = 0.0
-        fy = 0.0
         if THERMO_ANY:
             thermo = has_force and (thermostat if THERMO_RT else True)
             if thermo:
                 potential = False
-                E, fx, fy = field(ax, ay)
+                E = field(ax, ay)[0]
         # the energy to keep (energy.settle), twice the start's (gamma = 0 keeps the spin's apart, as specular)
         mixes = law == NOSLIP and s != 0.0  # the spin takes part in the energy exchange
         e0 = state_energy(vx, vy, w, mixes, ax, ay, x, y, potential)[0]
@@ -218,13 +218,13 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 extent_tol = EXTENT_TOL * length
                 remaining = max_time - t
                 t_level = INF
-                if THERMO_ANY and thermo:
-                    fl = flight(x, y, vx, vy, E, fx, fy)
+                if THERMO_ALWAYS or (THERMO_ANY and thermo):
+                    fl = flight(x, y, vx, vy, ax, ay)
                     if stop_below > -INF:
                         t_level = thermo_line_exit(fl, y + oy - stop_below, 0.0, 1.0, 0.0, INF, False)
                 elif stop_below > -INF:
                     t_level = quadratic_exit(y + oy - stop_below, vy, 0.5 * ay, INF)
-                if THERMO_ANY and thermo:
+                if THERMO_ALWAYS or (THERMO_ANY and thermo):
                     if lattice:
                         limit = min(remaining, t_level)
                         t_hit, e, o1, o2, status = thermo_walk_hit(kinds, params, copies, A, B, fl, E, cur_e, cur_o1,
@@ -245,7 +245,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                                                    has_force, cur_e, cur_o1, cur_o2, INF, extent_tol, 0.0, False)
                     escape = e < 0  # no element ahead: the orbit leaves for good
                 if t_level < INF and t_level <= t_hit and t_level <= remaining:
-                    if THERMO_ANY and thermo:
+                    if THERMO_ALWAYS or (THERMO_ANY and thermo):
                         x, y, vx, vy = thermo_state(fl, t_level)
                     else:
                         x, y, vx, vy = advance(x, y, vx, vy, ax, ay, t_level, has_force)
@@ -257,7 +257,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                     stop = STOP_ESCAPE
                     break
                 if e < 0 or t_hit > remaining:
-                    if THERMO_ANY and thermo:
+                    if THERMO_ALWAYS or (THERMO_ANY and thermo):
                         x, y, vx, vy = thermo_state(fl, remaining)
                     else:
                         x, y, vx, vy = advance(x, y, vx, vy, ax, ay, remaining, has_force)
@@ -265,7 +265,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                     stop = STOP_MAX_TIME
                     break
                 # relocate onto the element copy, then resolve the collision
-                if THERMO_ANY and thermo:
+                if THERMO_ALWAYS or (THERMO_ANY and thermo):
                     hx, hy, vx_in, vy_in = thermo_state(fl, t_hit)
                 else:
                     hx, hy, vx_in, vy_in = advance(x, y, vx, vy, ax, ay, t_hit, has_force)
@@ -278,10 +278,11 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 if far:  # eps x flight length
                     rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
                 px, py, nx, ny = place_on_element(kind, p, rx, ry)
-                if THERMO_ANY and thermo and WALLS and p[LONG_WALL] != 0.0:
-                    t_hit, px, py, vx_in, vy_in = thermo_exact_line_hit(
-                        kind, p, fl, sx, sy, e == cur_e and o1 == cur_o1 and o2 == cur_o2, t_hit, rx, ry, px, py,
-                        vx_in, vy_in)
+                if THERMO_ALWAYS or (THERMO_ANY and thermo):
+                    if WALLS and p[LONG_WALL] != 0.0:
+                        t_hit, px, py, vx_in, vy_in = thermo_exact_line_hit(
+                            kind, p, fl, sx, sy, e == cur_e and o1 == cur_o1 and o2 == cur_o2, t_hit, rx, ry, px, py,
+                            vx_in, vy_in)
                 elif WALLS and p[LONG_WALL] != 0.0 and not far:  # a long line or segment: eps x distance along it
                     t_hit, px, py, vx_in, vy_in = exact_line_hit(
                         kind, p, x - sx, y - sy, vx, vy, ax, ay, has_force, e == cur_e and o1 == cur_o1 and o2 == cur_o2,
@@ -317,7 +318,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 bounces = 0
                 near = _near_junction(jstart, jpts, e, x - sx, y - sy, JUNCTION_GATE * length)
                 while near and n < max_collisions:
-                    if THERMO_ANY and thermo:
+                    if THERMO_ALWAYS or (THERMO_ANY and thermo):
                         aex, aey = drag(vx, vy, ax, ay)
                     j, o1, o2 = _contact(kinds, params, copies, A, lattice, x, y, vx, vy, aex, aey,
                                          cur_e, cur_o1, cur_o2, CONTACT_TOL * length)
@@ -346,7 +347,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 if stop == STOP_CORNER:
                     break
                 sx, sy = copy_shift(A, cur_o1, cur_o2, lattice)
-                if THERMO_ANY and thermo:
+                if THERMO_ALWAYS or (THERMO_ANY and thermo):
                     aex, aey = drag(vx, vy, ax, ay)
                 if slides_off(kinds[cur_e], params[cur_e], x - sx, y - sy, vx, vy, aex, aey):
                     stop = STOP_GRAZING

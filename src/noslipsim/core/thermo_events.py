@@ -67,14 +67,14 @@ def _field_parts(fl, nx, ny):
 
 
 @jit
-def _line_value(fl, n1, n2, t):
-    """``(n . (q(t) - q(0)), n . v(t))`` for the field-frame parts ``n1, n2`` of ``n``."""
-    dX, dY, cphi, sphi, lam = displacement(fl, t)
-    return n1 * dX + n2 * dY, fl[4] * (n1 * cphi + n2 * sphi)
+def _line_value(fl, n1, n2, nv, t):
+    """``(n . (q(t) - q(0)), n . v(t))`` for the field-frame parts ``n1, n2`` of ``n`` and ``nv = n . v(0)``."""
+    tl, dX, dY, cphi, sphi, lam = displacement(fl, t)
+    return nv * tl + (n1 * dX + n2 * dY), fl[4] * (n1 * cphi + n2 * sphi)
 
 
 @jit
-def _line_root(fl, f0, n1, n2, a, b, fa, fb):
+def _line_root(fl, f0, n1, n2, nv, a, b, fa, fb):
     """Root of the monotone ``f = f0 + n . (q(t) - q(0))`` in ``[a, b]`` with ``fa > 0 >= fb``: safeguarded Newton."""
     if fb == 0.0:
         return b
@@ -82,7 +82,7 @@ def _line_root(fl, f0, n1, n2, a, b, fa, fb):
     if not (a < t < b):
         t = 0.5 * (a + b)
     for _ in range(ROOT_MAX_ITER):
-        val, der = _line_value(fl, n1, n2, t)
+        val, der = _line_value(fl, n1, n2, nv, t)
         f = f0 + val
         if f == 0.0:
             return t
@@ -125,7 +125,7 @@ def _decreasing_at_infinity(fl, f0, n1, n2):
 
 
 @jit
-def _exit_from(fl, f0, n1, n2, a, fa, pos, hi, tc):
+def _exit_from(fl, f0, n1, n2, nv, a, fa, pos, hi, tc):
     """First exit root in ``(a, hi]`` given ``f(a) = fa`` (``pos``: ``f > 0`` just after ``a``) and the critical time."""
     c = fl[4]
     speed_n = c * math.hypot(n1, n2)      # |f'| <= c |n|
@@ -135,13 +135,13 @@ def _exit_from(fl, f0, n1, n2, a, fa, pos, hi, tc):
             continue
         bb = min(b, hi)
         if bb < INF:
-            val, der = _line_value(fl, n1, n2, bb)
+            val, der = _line_value(fl, n1, n2, nv, bb)
             fb = f0 + val
             if pos and (fb < 0.0 or (fb == 0.0 and bb == hi)):
                 if fa <= 0.0:  # deflated start: the root t = 0 is not an exit, f > 0 just after it
                     fa = 0.0
-                    return _line_root_from_zero(fl, f0, n1, n2, a, bb, fb, der)
-                return _line_root(fl, f0, n1, n2, a, bb, fa, fb)
+                    return _line_root_from_zero(fl, f0, n1, n2, nv, a, bb, fb, der)
+                return _line_root(fl, f0, n1, n2, nv, a, bb, fa, fb)
             if bb >= hi:
                 return INF
             a = bb
@@ -155,28 +155,28 @@ def _exit_from(fl, f0, n1, n2, a, fa, pos, hi, tc):
         if fl[11] != 0.0 or not h > 0.0:  # a turning flight bends over the time 1 / k
             h = max(h, 1.0 / fl[5])
         for _ in range(MAX_DOUBLINGS):
-            val, der = _line_value(fl, n1, n2, a + h)
+            val, der = _line_value(fl, n1, n2, nv, a + h)
             fb = f0 + val
             if fb <= 0.0:
                 if fa <= 0.0:
-                    return _line_root_from_zero(fl, f0, n1, n2, a, a + h, fb, der)
-                return _line_root(fl, f0, n1, n2, a, a + h, fa, fb)
+                    return _line_root_from_zero(fl, f0, n1, n2, nv, a, a + h, fb, der)
+                return _line_root(fl, f0, n1, n2, nv, a, a + h, fa, fb)
             h *= 2.0
         return INF
     return INF
 
 
 @jit
-def _line_root_from_zero(fl, f0, n1, n2, a, b, fb, derb):
+def _line_root_from_zero(fl, f0, n1, n2, nv, a, b, fb, derb):
     """The root in ``(a, b]`` of a deflated ``f`` (``f(a) = 0``, positive just after ``a``): bracket it away from ``a``."""
     # f > 0 on (a, a + h) for small h: halve from b until a positive value is found
     h = b - a
     for _ in range(1100):
         h *= 0.5
-        val, der = _line_value(fl, n1, n2, a + h)
+        val, der = _line_value(fl, n1, n2, nv, a + h)
         f = f0 + val
         if f > 0.0:
-            return _line_root(fl, f0, n1, n2, a + h, b, f, fb)
+            return _line_root(fl, f0, n1, n2, nv, a + h, b, f, fb)
         if f < 0.0:
             b = a + h
             fb = f
@@ -194,6 +194,7 @@ def line_exit(fl, f0, nx, ny, lo, hi, deflate):
     hit, removed; the sign just after it is that of ``f'(0)`` (or ``f''(0)``).
     """
     n1, n2 = _field_parts(fl, nx, ny)
+    nv = nx * fl[2] + ny * fl[3]
     tc = _critical_time(fl, n1, n2)
     if lo == 0.0:
         fa = f0
@@ -207,12 +208,12 @@ def line_exit(fl, f0, nx, ny, lo, hi, deflate):
         else:
             pos = fa > 0.0
     else:
-        val, der = _line_value(fl, n1, n2, lo)
+        val, der = _line_value(fl, n1, n2, nv, lo)
         fa = f0 + val
         pos = fa > 0.0
     if pos and fa > 0.0 and hi < INF and fa > c_bound(fl, n1, n2) * (hi - lo):
         return INF  # |f'| <= c |n|: f cannot reach 0 in the window
-    return _exit_from(fl, f0, n1, n2, lo, fa, pos, hi, tc)
+    return _exit_from(fl, f0, n1, n2, nv, lo, fa, pos, hi, tc)
 
 
 @jit(inline="always")
@@ -228,16 +229,24 @@ def face_exit(fl, f0, nx, ny, t_in):
     On or past the face at ``t_in`` and moving out: ``t_in`` (leave at once).
     """
     n1, n2 = _field_parts(fl, nx, ny)
+    nv = nx * fl[2] + ny * fl[3]
     tc = _critical_time(fl, n1, n2)
     if t_in == 0.0:
         fa = f0
-        der = nx * fl[2] + ny * fl[3]
+        der = nv
+        vx = fl[2]
+        vy = fl[3]
     else:
-        val, der = _line_value(fl, n1, n2, t_in)
+        val, der = _line_value(fl, n1, n2, nv, t_in)
         fa = f0 + val
-    if fa <= 0.0 and der < 0.0:
-        return t_in
-    return _exit_from(fl, f0, n1, n2, t_in, fa, fa > 0.0, INF, tc)
+        vx, vy = state(fl, t_in)[2:]
+    if fa <= 0.0:
+        if der == 0.0:  # along the face: the path's curvature decides
+            aex, aey = drag(vx, vy, fl[12], fl[13])
+            der = nx * aex + ny * aey
+        if der < 0.0:
+            return t_in
+    return _exit_from(fl, f0, n1, n2, nv, t_in, fa, fa > 0.0, INF, tc)
 
 
 @jit
@@ -286,9 +295,9 @@ def _round_at(fl, cx, cy, sig, r, t):
         vy = vy0
         lam = lam0
     else:
-        dX, dY, cphi, sphi, lam = displacement(fl, t)
-        dx = (x0 - cx) + (dX * fx - dY * fy)
-        dy = (y0 - cy) + (dX * fy + dY * fx)
+        tl, dX, dY, cphi, sphi, lam = displacement(fl, t)
+        dx = ((x0 - cx) + tl * vx0) + (dX * fx - dY * fy)
+        dy = ((y0 - cy) + tl * vy0) + (dX * fy + dY * fx)
         vx = c * (cphi * fx - sphi * fy)
         vy = c * (cphi * fy + sphi * fx)
     G = sig * ((dx * dx + dy * dy) - r * r)
