@@ -34,7 +34,8 @@ def test_every_element_kind_draws(ax):
     fills = [c for c in ax.collections if isinstance(c, PatchCollection)]
     assert len(walls) == 1 and len(walls[0].get_segments()) == 2      # the line's chord and the segment
     chord = walls[0].get_segments()[0]
-    np.testing.assert_allclose(sorted(chord[:, 0]), [-1, 3]) and np.testing.assert_allclose(chord[:, 1], 0)
+    np.testing.assert_allclose(sorted(chord[:, 0]), [-1, 3])
+    np.testing.assert_allclose(chord[:, 1], 0)
     assert len(fills) == 2                                             # the shaded wall side and the disc
     assert len(ax.patches) == 2                                        # the container circle and the arc
     # the shaded side of the floor is below it: y <= 0

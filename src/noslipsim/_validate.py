@@ -66,6 +66,7 @@ def no_unknown_keys(mapping, allowed, where):
 
 
 def required(mapping, key, where):
+    """``mapping[key]``, or ValueError naming ``where`` and the missing key."""
     if key not in mapping:
         raise ValueError(f"{where}.{key}: missing")
     return mapping[key]

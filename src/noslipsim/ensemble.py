@@ -118,12 +118,14 @@ def _run_chunk(table, starts, on, levels, max_collisions, max_time, mode, n_rec,
 
 
 def _run_threads(table, starts, on, levels, tail, threads):
-    """The orbits split into one block per thread, run at once (the kernels release the GIL); no dask."""
+    """The orbits in blocks run by a pool of threads (the kernels release the GIL); no dask.
+
+    Four blocks per thread, so that a thread whose orbits end early takes another block."""
     from concurrent.futures import ThreadPoolExecutor
 
     n = len(starts)
     threads = max(1, min(threads, n))
-    size = math.ceil(n / threads) if n else 1
+    size = math.ceil(n / (4 * threads)) if n else 1
     blocks = [slice(i, i + size) for i in range(0, n, size)] or [slice(0, 0)]
     with ThreadPoolExecutor(threads) as pool:
         parts = list(pool.map(lambda b: _run_chunk(table, starts[b], on[b], levels[b], *tail), blocks))

@@ -205,6 +205,7 @@ class Scene:
             raise type(err)(f"{where}: {err}") from None
 
     def to_dict(self):
+        """The scene as its scene-file mapping (the inverse of :meth:`from_dict`)."""
         d = {"law": self.law, "gamma": self.gamma, "force": list(self.force)}
         if self.thermostat is not None:
             d["thermostat"] = self.thermostat
@@ -222,6 +223,7 @@ class Scene:
         return text
 
     def to_json(self):
+        """The scene as a JSON string (sorted keys): how datasets store it."""
         return json.dumps(self.to_dict(), sort_keys=True)
 
     def replace(self, **changes):

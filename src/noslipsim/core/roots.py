@@ -23,11 +23,13 @@ EPS = 2.220446049250313e-16
 
 @jit
 def horner(c0, c1, c2, c3, c4, t):
+    """``c0 + c1 t + c2 t^2 + c3 t^3 + c4 t^4`` by Horner's rule."""
     return (((c4 * t + c3) * t + c2) * t + c1) * t + c0
 
 
 @jit
 def horner_prime(c1, c2, c3, c4, t):
+    """The derivative ``c1 + 2 c2 t + 3 c3 t^2 + 4 c4 t^3`` by Horner's rule."""
     return ((4.0 * c4 * t + 3.0 * c3) * t + 2.0 * c2) * t + c1
 
 
