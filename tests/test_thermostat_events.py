@@ -98,8 +98,8 @@ def random_flight(rng, element, field):
         rho = element.radius * (1 + 10 ** rng.uniform(-2, 0.5))
         q = (element.center[0] + rho * u[0], element.center[1] + rho * u[1])
     else:
-        q = (P[0] + abs(depth) * n[0] + off * t_dir[0], P[1] + abs(depth) * n[1] + off * t_dir[1]) \
-            if isinstance(element, Line) else (P[0] + depth * n[0] + off * t_dir[0], P[1] + depth * n[1] + off * t_dir[1])
+        d = abs(depth) if isinstance(element, Line) else depth
+        q = (P[0] + d * n[0] + off * t_dir[0], P[1] + d * n[1] + off * t_dir[1])
     speed = 10 ** rng.uniform(-0.5, 0.5)
     if rng.random() < 0.65:
         target, _ = point_on(rng, element)

@@ -37,7 +37,7 @@ def test_closed_form_solves_the_equations_of_motion(phi0, E, c):
     Ax, Ay = ctx.mpf(ax), ctx.mpf(ay)
 
     def rhs(t, s):
-        x, y, u, w = s
+        _x, _y, u, w = s
         alpha = (Ax * u + Ay * w) / (u * u + w * w)
         return [u, w, Ax - alpha * u, Ay - alpha * w]
 
@@ -122,7 +122,7 @@ def test_straight_flights_along_and_against_the_field():
 def test_weak_field_limit_is_the_straight_flight():
     """At field E the path leaves the straight line by at most E t^2 / 2 (the curvature bound), and does."""
     for E in (1e-3, 1e-6, 1e-9):
-        x, y, vx, vy = advance(0.0, 0.0, 0.6, 0.8, E, 0.0, 2.0)
+        x, y, _vx, _vy = advance(0.0, 0.0, 0.6, 0.8, E, 0.0, 2.0)
         dev = math.hypot(x - 1.2, y - 1.6)
         assert dev <= 0.5 * E * 4.0 * (1 + 1e-9)
         assert dev >= 0.1 * E  # the field does act
@@ -158,5 +158,5 @@ def test_zero_speed_is_refused_with_the_thermostat():
     from noslipsim import simulate
 
     scene = Scene((Circle((0, 0), 1.0, "inside"),), force=(0.0, -1.0), thermostat="isokinetic")
-    with pytest.raises(ValueError, match="^velocity: the isokinetic thermostat keeps the speed"):
+    with pytest.raises(ValueError, match=r"^velocity: the isokinetic thermostat keeps the speed"):
         simulate(scene, (0.0, 0.0), (0.0, 0.0), 0.3)

@@ -16,13 +16,12 @@ import math
 
 import numpy as np
 import pytest
+from invariants import cell_frame, element_error_rel, table_depth_rel
 from shadowing import one_step_references
 
 from noslipsim import Circle, Scene, simulate, tables
 from noslipsim._engine.table import kernel_table
 from noslipsim.reference import simulate_reference
-
-from invariants import cell_frame, element_error_rel, table_depth_rel
 
 RTOL = 1e-9
 DISK = 1 / math.sqrt(2)
@@ -90,7 +89,7 @@ def test_energy_and_no_leak_over_long_orbits(name, law):
     # sampled points of every flight lie inside the table (the thermostatted path, not a parabola),
     # each flight drawn from its start in the frame of the start's cell
     sub = ds.isel(collision=slice(0, 20_000))
-    x0, y0, origins = cell_frame(scene, sub)
+    x0, y0, _origins = cell_frame(scene, sub)
     tau = np.diff(sub.t.values)[:, None] * np.random.default_rng(0).uniform(0, 1, (sub.sizes["collision"] - 1, 3))
     x, y, _, _ = scene.flight_states(x0[:-1, None], y0[:-1, None], sub.vx.values[:-1, None],
                                      sub.vy.values[:-1, None], tau)

@@ -69,7 +69,7 @@ def _field_parts(fl, nx, ny):
 @jit
 def _line_value(fl, n1, n2, nv, t):
     """``(n . (q(t) - q(0)), n . v(t))`` for the field-frame parts ``n1, n2`` of ``n`` and ``nv = n . v(0)``."""
-    tl, dX, dY, cphi, sphi, lam = displacement(fl, t)
+    tl, dX, dY, cphi, sphi, _lam = displacement(fl, t)
     return nv * tl + (n1 * dX + n2 * dY), fl[4] * (n1 * cphi + n2 * sphi)
 
 
@@ -126,7 +126,7 @@ def _decreasing_at_infinity(fl, f0, n1, n2):
 
 @jit
 def _exit_from(fl, f0, n1, n2, nv, a, fa, pos, hi, tc):
-    """First exit root in ``(a, hi]`` given ``f(a) = fa`` (``pos``: ``f > 0`` just after ``a``) and the critical time."""
+    """First exit root in ``(a, hi]`` from ``f(a) = fa`` (``pos``: ``f > 0`` just after ``a``), critical time ``tc``."""
     c = fl[4]
     speed_n = c * math.hypot(n1, n2)      # |f'| <= c |n|
     for piece in range(2):
@@ -168,12 +168,12 @@ def _exit_from(fl, f0, n1, n2, nv, a, fa, pos, hi, tc):
 
 @jit
 def _line_root_from_zero(fl, f0, n1, n2, nv, a, b, fb, derb):
-    """The root in ``(a, b]`` of a deflated ``f`` (``f(a) = 0``, positive just after ``a``): bracket it away from ``a``."""
+    """The root in ``(a, b]`` of a deflated ``f`` (``f(a) = 0``, positive just after ``a``), bracketed off ``a``."""
     # f > 0 on (a, a + h) for small h: halve from b until a positive value is found
     h = b - a
     for _ in range(1100):
         h *= 0.5
-        val, der = _line_value(fl, n1, n2, nv, a + h)
+        val, _der = _line_value(fl, n1, n2, nv, a + h)
         f = f0 + val
         if f > 0.0:
             return _line_root(fl, f0, n1, n2, nv, a + h, b, f, fb)
@@ -287,7 +287,7 @@ def _first_root(g, g1, m):
 @jit(inline="always")
 def _round_at(fl, cx, cy, sig, r, t):
     """``(dx, dy, vx, vy, lam, G, G')`` at time ``t`` for the circle of centre ``(cx, cy)``."""
-    x0, y0, vx0, vy0, c, k, R, C2, S2, SC, lam0, sgn, fx, fy = fl
+    x0, y0, vx0, vy0, c, _k, _R, _C2, _S2, _SC, lam0, _sgn, fx, fy = fl
     if t == 0.0:
         dx = x0 - cx
         dy = y0 - cy

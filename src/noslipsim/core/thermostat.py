@@ -158,7 +158,7 @@ def displacement(fl, t):
     distance, not of the step; otherwise the closed form in the field frame
     (``tl = 0``).  A flight along or exactly against the field is straight.
     """
-    x, y, vx, vy, c, k, R, C2, S2, SC, lam0, sgn, fx, fy = fl
+    _x, _y, _vx, _vy, c, k, R, C2, S2, SC, lam0, sgn, _fx, _fy = fl
     if sgn == 0.0:  # straight along (or exactly against) the field
         cphi = 1.0 if S2 == 0.0 else -1.0
         return t, 0.0, 0.0, cphi, 0.0, lam0
@@ -191,12 +191,12 @@ def displacement(fl, t):
 @jit
 def state(fl, t):
     """``(x, y, vx, vy)`` of the flight after time ``t >= 0`` (``t = 0``: the start, exactly)."""
-    x, y, vx, vy, c, k, R, C2, S2, SC, lam0, sgn, fx, fy = fl
+    x, y, vx, vy, c, _k, _R, _C2, _S2, _SC, _lam0, sgn, fx, fy = fl
     if t == 0.0:
         return x, y, vx, vy
     if sgn == 0.0:  # along or exactly against the field: a straight line at constant velocity
         return x + t * vx, y + t * vy, vx, vy
-    tl, dX, dY, cphi, sphi, lam = displacement(fl, t)
+    tl, dX, dY, cphi, sphi, _lam = displacement(fl, t)
     return ((x + tl * vx) + (dX * fx - dY * fy), (y + tl * vy) + (dX * fy + dY * fx),
             c * (cphi * fx - sphi * fy), c * (cphi * fy + sphi * fx))
 

@@ -122,7 +122,7 @@ def first_exit(ctx, g, dg, bound, lo, hi, skip=None):
         m = (a + b) / 2
         slope = dg(m)
         if abs(slope) > M * h / 2 or h <= width:  # monotone on [a, b], or a tangency to the working precision
-            if ga > 0 and gb <= 0 and (abs(slope) > M * h / 2 and slope < 0 or h <= width):
+            if ga > 0 and gb <= 0 and ((abs(slope) > M * h / 2 and slope < 0) or h <= width):
                 root = b if gb == 0 else _bisect(ctx, g, a, b, width)
                 if skip is None or not skip(root):
                     return root
