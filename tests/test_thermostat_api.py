@@ -2,27 +2,33 @@
 
 * A scene file with ``thermostat: isokinetic`` runs from :meth:`Scene.from_yaml` and the command
   line, and gives the orbit :func:`simulate` gives for the scene built in Python.
-* :func:`simulate_many` (the batch kernel, record ``final``) ends every orbit where
-  :func:`simulate` ends it, bit for bit, on a plain table and on a lattice, both laws; the
+* :func:`simulate_many` (record ``log``) logs and ends every orbit as :func:`simulate` does, bit for bit, on a plain table and on a lattice, both laws; the
   total kinetic energy ``|v|^2 + w^2`` of every final state is the start's to rounding.
 * Zero speed is refused by name (it has no heading to keep); tools derived for free fall (the
   tangent maps, the energy-surface coordinates) refuse a thermostatted scene by name instead of
   answering for the wrong flight.
 
-Kernel variants compiled here beyond tests/test_thermostat_orbits.py: two batch kernels in record
-mode ``final`` (thermostat, no-slip lattice; thermostat, specular plain table).
+* The thermostat's own kernel variant gives the general path's outputs and log, bit for bit (as
+  tests/test_ablation.py checks the other slots).
+
+No kernel variant is compiled here beyond those of tests/test_thermostat_orbits.py (thermostatted,
+record mode ``log``) and tests/test_ablation.py (the general path).
 """
 import json
 import math
 
 import numpy as np
 import pytest
+from kernel_call import record_buffer, run_kernel
 
 from noslipsim import Scene, simulate, simulate_many, tables
 from noslipsim.analysis import lyapunov
 from noslipsim.analysis.islands import finite_time_lyapunov, interior_starts
 from noslipsim.analysis.section import energy_at
+from noslipsim._engine.table import kernel_table
 from noslipsim.cli import main
+from noslipsim.core import layout
+from noslipsim.core.variant import GENERAL
 
 DISK = 1 / math.sqrt(2)
 SCENE_FILE = """\
@@ -86,7 +92,8 @@ def test_simulate_many_ends_where_simulate_ends(name):
     ang = rng.uniform(0, 2 * math.pi, n)
     v = np.column_stack([np.cos(ang), np.sin(ang)]) * rng.uniform(0.5, 2.0, n)[:, None]
     w = rng.uniform(-0.5, 0.5, n)
-    ens = simulate_many(scene, q, v, w, max_collisions=3000, record="final", scheduler="sync", progress=False)
+    # record "log": the kernel variant simulate runs (no extra compile); the finals and the log compared
+    ens = simulate_many(scene, q, v, w, max_collisions=3000, record="log", scheduler="sync", progress=False)
     kin0 = (v ** 2).sum(axis=1) + w ** 2
     kin = ens.vx_final.values ** 2 + ens.vy_final.values ** 2 + ens.spin_final.values ** 2
     assert np.abs(kin / kin0 - 1.0).max() <= 1e-13
@@ -94,6 +101,7 @@ def test_simulate_many_ends_where_simulate_ends(name):
         one = simulate(scene, q[i], v[i], w[i], max_collisions=3000)
         for var in ("t", "x", "y", "vx", "vy", "spin"):
             assert float(ens[f"{var}_final"][i]) == float(one[f"{var}_final"]), f"orbit {i} {var}"
+            np.testing.assert_array_equal(ens[var].values[i, :int(one.n_collisions)], one[var].values)
         if scene.lattice is not None:
             assert int(ens.cell_a1_final[i]) == int(one.cell_a1_final)
     if scene.lattice is not None:   # the field drives a current along it (a . <v> > 0)
@@ -132,3 +140,20 @@ def test_interior_starts_follow_the_thermostatted_path():
     b = simulate(therm, (0.2, 0.2), (0.6, 0.8), 0.0, max_collisions=1)
     assert float(a.t[0]) == pytest.approx(0.5 * float(b.t[0]), rel=1e-12)
     assert float(a.x[0]) == pytest.approx(float(b.x[0]), rel=1e-12)
+
+
+def test_thermostat_variant_bitwise_identical_to_general():
+    scene = tables.regular_polygon(5, force=(0.3, -1.0), gamma=DISK).replace(thermostat="isokinetic")
+    table = kernel_table(scene)
+    own = table.variant(layout.RECORD_LOG)
+    assert own[6] is True and own[0] is True
+    n = 5000
+    results = []
+    for flags in (GENERAL, own):
+        rec = record_buffer(layout.RECORD_LOG, n + 1, fill=-7.0)
+        out = run_kernel(table, flags, (0.1, 0.05), (0.83, 0.41), 0.2, n, layout.RECORD_LOG, rec=rec)
+        assert out[0] == n and out[3] == n   # full length, every row logged: not a vacuous comparison
+        results.append((np.asarray(out, dtype=float).view(np.int64), rec.view(np.int64)))
+    for out, rec in results[1:]:
+        np.testing.assert_array_equal(out, results[0][0])
+        np.testing.assert_array_equal(rec, results[0][1])
