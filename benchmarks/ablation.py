@@ -63,8 +63,8 @@ from noslipsim.core.variant import GENERAL
 from noslipsim.simulate import start_cell
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from machine import machine_line  # noqa: E402
-from package_copy import outputs  # noqa: E402
+from machine import machine_line
+from package_copy import outputs
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 OUT = os.path.join(HERE, "results", "ablation.md")
@@ -421,12 +421,12 @@ def main():
     for name, base in (("pentagon", PENTAGON), ("Sinai box", SINAI_BOX)):
         for law in ("specular", "no-slip"):
             scene = base.replace(law=law)
-            f, s, l, m = own_variant(scene, NONE)[:4]
+            f, s, lat, m = own_variant(scene, NONE)[:4]
             # what straight flights buy: the same scene through the force code (degree 4 and 3,
             # leading coefficients exactly zero) against its own variant
-            compare(rows, "straight flights", name, scene, (True, s, l, m), (f, s, l, m))
-            for variant in ((f, None, None, None), (None, s, None, None), (None, None, l, None),
-                            (None, None, None, m), (f, None, l, None), (f, s, l, m)):
+            compare(rows, "straight flights", name, scene, (True, s, lat, m), (f, s, lat, m))
+            for variant in ((f, None, None, None), (None, s, None, None), (None, None, lat, None),
+                            (None, None, None, m), (f, None, lat, None), (f, s, lat, m)):
                 compare(rows, "per flag", name, scene, G, variant)
     # no spin bookkeeping (specular), on top of the other specialisations
     for name, base in (("Sinai box", SINAI_BOX), ("pentagon", PENTAGON)):
@@ -441,8 +441,8 @@ def main():
     for name, base in (("circle + gravity", CIRCLE_G), ("Galton board", GALTON)):
         for law in ("no-slip", "specular"):
             scene = base.replace(law=law)
-            f, s, l, m = own_variant(scene, NONE)[:4]
-            for variant in ((f, None, None, None), (None, None, l, None), (f, s, l, m)):
+            f, s, lat, m = own_variant(scene, NONE)[:4]
+            for variant in ((f, None, None, None), (None, None, lat, None), (f, s, lat, m)):
                 compare(rows, "force", name, scene, G, variant)
     # lattice: the cell walk vs explicit copies, and the lean loop of one disk per cell
     for law in ("no-slip", "specular"):

@@ -103,7 +103,8 @@ def per_flight(scene, q, v, w, old):
 
 
 def rounds(orbit, old, flags):
-    """The old kernel's median rate, per round new/old and old-again/old (``ROUNDS`` interleaved rounds), both final states."""
+    """The old kernel's median rate, per round new/old and old-again/old (``ROUNDS`` interleaved rounds),
+    both final states."""
     runs = {"old": lambda n: orbit.run_old(old, flags, n, NONE), "new": lambda n: orbit.run(flags, n, NONE)}
     for run in runs.values():
         run(10)  # compile (or load from the cache)

@@ -13,7 +13,7 @@ import sys
 from numba import njit
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from machine import report_baseline  # noqa: E402
+from machine import report_baseline
 
 
 @njit

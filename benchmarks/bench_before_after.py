@@ -38,7 +38,7 @@ import numpy as np
 import noslipsim as new
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from package_copy import kernel_call  # noqa: E402
+from package_copy import kernel_call
 
 ROWS = 100
 DEPTH = ROWS * math.sqrt(3.0)

@@ -21,8 +21,8 @@ import noslipsim as ns
 from noslipsim import Circle, Scene, initial, tables
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from baseline_sinai_torus import sinai_torus as plain_loop  # noqa: E402
-from machine import machine_line  # noqa: E402
+from baseline_sinai_torus import sinai_torus as plain_loop
+from machine import machine_line
 
 ORBITS = 64
 COLLISIONS = 20_000

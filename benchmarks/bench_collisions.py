@@ -21,7 +21,7 @@ from noslipsim._engine.table import kernel_table
 from noslipsim.core.batch import F_N
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from package_copy import outputs  # noqa: E402
+from package_copy import outputs
 
 SCENES = {
     "pentagon (no force)": (tables.regular_polygon(5), (0.1, 0.05), (0.83, 0.41)),

@@ -20,7 +20,7 @@ from noslipsim import initial, tables
 from noslipsim.experiments import galton_distribution
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from machine import machine_line  # noqa: E402
+from machine import machine_line
 
 ROWS = 100
 DEPTH = ROWS * math.sqrt(3.0)

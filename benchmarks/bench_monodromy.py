@@ -14,13 +14,12 @@ import os
 import sys
 import time
 
-
 import noslipsim as ns
 from noslipsim import tables
 from noslipsim.analysis import lyapunov, monodromy, two_disk_orbit
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from machine import machine_line  # noqa: E402
+from machine import machine_line
 
 
 def best(fn, repeat):
@@ -49,8 +48,8 @@ def main():
     print(f"{'case':<24}{'period':>8}{'simulate ms':>13}{'monodromy ms':>14}{'ratio':>7}")
     for name, scene, st, periods in cases:
         for p in periods:
-            t_sim = best(lambda: ns.simulate(scene, **st, max_collisions=p + 1), args.repeat)
-            t_mon = best(lambda: monodromy(scene, **st, period=p), args.repeat)
+            t_sim = best(lambda scene=scene, st=st, p=p: ns.simulate(scene, **st, max_collisions=p + 1), args.repeat)
+            t_mon = best(lambda scene=scene, st=st, p=p: monodromy(scene, **st, period=p), args.repeat)
             print(f"{name:<24}{p:>8}{t_sim * 1e3:>13.3f}{t_mon * 1e3:>14.3f}{t_mon / t_sim:>7.2f}")
     print(f"{'lyapunov, 1e5 collisions':<32}{'seconds':>10}{'exponent':>12}")
     runs = [("Sinai torus specular R=0.25", tables.sinai_torus(0.25, law="specular"), (0.45, 0.1), 0.0),

@@ -20,7 +20,7 @@ import numpy as np
 from noslipsim.analysis import stability_grid, stability_grid_theta
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from machine import machine_line  # noqa: E402
+from machine import machine_line
 
 GAMMA = 1.0 / math.sqrt(2.0)
 TARGET_SECONDS = 20.0

@@ -29,10 +29,10 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from package_copy import kernel_call  # noqa: E402
+from package_copy import kernel_call
 
-from noslipsim import Circle, Scene, tables  # noqa: E402
-from noslipsim.simulate import start_cell  # noqa: E402
+from noslipsim import Circle, Scene, tables
+from noslipsim.simulate import start_cell
 
 PENTAGON = tables.regular_polygon(5)
 TORUS = tables.sinai_torus(0.25)

@@ -231,7 +231,9 @@ def main():
     for name in names:
         r = orbit_terms(name, n)
         se = r["law_sd"] / math.sqrt(r["collisions"]) * 1e6
-        fmt = (lambda v: f"{v:+.1e}" if v is not None else "-")
+        def fmt(v):
+            return f"{v:+.1e}" if v is not None else "-"
+
         matched = f"{r['matched']:.3f}" if r["matched"] is not None else "-"
         print(f"{name:<26}{r['slope']:>+11.1e}{r['law']:>+11.1e}{r['flight_total']:>+13.1e}{fmt(r['flight']):>11}"
               f"{fmt(r['projection']):>12}{matched:>9}"

@@ -36,7 +36,8 @@ INTS = (0, 1, 2, 3, 10, 11)
 
 
 def package_copy(commit, name, where, fresh=False):
-    """Extract ``src/noslipsim`` at ``commit`` to ``where/name`` (unless there, or ``fresh``); ``where`` goes on sys.path.
+    """Extract ``src/noslipsim`` at ``commit`` to ``where/name`` (unless there, or ``fresh``);
+    ``where`` goes on sys.path.
 
     Returns the package's directory.
     """

@@ -17,8 +17,8 @@ import re
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.lines import Line2D  # noqa: E402
+import matplotlib.pyplot as plt
+from matplotlib.lines import Line2D
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_CSV = os.path.join(HERE, "results", "work_precision.csv")
@@ -74,7 +74,7 @@ def draw(rows, out_base):
                 ax.annotate("noslipsim orbit" if orbit else "noslipsim restart API", (x, y),
                             textcoords="offset points", xytext=(8, 7), fontsize=7)
                 continue
-            method, rtol, step, fill = _scipy_style(r["setting"])
+            method, _rtol, step, fill = _scipy_style(r["setting"])
             colour = STEP_COLOURS.get(step, "tab:gray")
             marker = "o" if method == "RK45" else "s"
             face = matplotlib.colors.to_rgba(colour, fill) if fill > 0 else "white"

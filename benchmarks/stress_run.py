@@ -173,7 +173,7 @@ def report(results, args, wall, started):
         by.setdefault(section, []).append((a, rows, sec))
     busy = {s: sum(sec for _, _, sec in v) for s, v in by.items()}
     failures = [(s, r) for s, v in by.items() for _, rows, _ in v for r in rows if r.get("ok") is False]
-    out = [f"# Stress run: measured figures\n",
+    out = ["# Stress run: measured figures\n",
            f"Date: {started:%Y-%m-%d %H:%M} UTC. Machine: {machine()}.\n",
            f"Command: `python benchmarks/stress_run.py{' --quick' if args.quick else ''} --workers {args.workers} "
            f"--total {args.total:.0e}`; wall time {wall / 60:.1f} min on {args.workers} worker processes "
@@ -353,7 +353,8 @@ def report(results, args, wall, started):
                "For L = 1e-6, 1e6: the first 5 collisions within 1e-9 (`early err`), the same elements until the "
                "orbits part by 1e-6 (`chaos horizon`, in collisions), and 2000 random flights one at a time within "
                "their conditioning tolerance (`1-step err/tol`); invariants on the scaled orbit (relative).\n")
-    sc = sorted([r for _, rows, _ in by.get("scale", []) for r in rows if "L" in r], key=lambda r: (r["L"], r["family"]))
+    sc = sorted([r for _, rows, _ in by.get("scale", []) for r in rows if "L" in r],
+                key=lambda r: (r["L"], r["family"]))
     out.append(table(["L", "family", "collisions", "bitwise", "early err", "chaos horizon", "1-step err/tol",
                       "on elem", "leak", "missed", "energy", "ok"],
                      [[fmt(r["L"], ".3g"), r["family"], r.get("collisions"), r.get("bitwise"), r.get("early_error"),

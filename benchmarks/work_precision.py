@@ -67,7 +67,7 @@ from noslipsim import Circle, Scene, Segment, simulate, simulate_many, tables
 from noslipsim.reference import simulate_reference
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from machine import cpu_model  # noqa: E402
+from machine import cpu_model
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 RESULTS = os.path.join(HERE, "results")

@@ -6,7 +6,6 @@ Shared by tests/test_disk_lattice.py (one disk per cell) and tests/test_disk_cel
 import math
 
 import numpy as np
-
 from kernel_call import record_buffer, run_kernel
 
 from noslipsim._engine.table import kernel_table
@@ -19,7 +18,7 @@ def kernels(scene, mode):
     """``(general, lean)``: the flags of the general path's lattice variant for this scene and of the lean loop."""
     flags = kernel_table(scene).variant(mode)
     assert flags[4] is True
-    return flags[:4] + (None, None), flags
+    return (*flags[:4], None, None), flags
 
 
 def run(flags, scene, q, v, w, n, mode=LOG, max_time=math.inf, level=-math.inf, start_element=-1):

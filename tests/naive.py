@@ -356,7 +356,7 @@ def naive_flight_exits(element, q, v, a, deflate=False, hi=math.inf):
     """
     p, _ = naive_crossing_poly(element, q, v, a)
     if deflate:
-        p = p[1:] + [Fraction(0)]
+        p = [*p[1:], Fraction(0)]
     X, Y = _flight(q, v, a)
     out = []
     for t, kind, br in naive_real_roots(p, hi):

@@ -123,9 +123,9 @@ def test_argument_errors():
         lyapunov(scene, (0.45, 0.1), v, max_time=-1.0)
     with pytest.raises(ValueError, match="n_collisions"):
         lyapunov(scene, (0.45, 0.1), v, n_collisions=MAX_COLLISIONS + 1)
-    with pytest.raises(ValueError, match="period|n_collisions"):
+    with pytest.raises(ValueError, match=r"period|n_collisions"):
         lyapunov(scene, (0.45, 0.1), v, n_collisions=0)
-    disks, state = two_disk_orbit(0.5, 0.3, 1 / math.sqrt(2))
+    disks, _state = two_disk_orbit(0.5, 0.3, 1 / math.sqrt(2))
     with pytest.raises(ValueError, match="only 1 collisions"):
         lyapunov(disks, (0.0, 0.3), (-1.0, 0.0), 0.0, max_time=100.0)  # one bounce, then away
     square = tables.rectangle(1.0, 1.0)

@@ -19,7 +19,13 @@ from noslipsim import tables, theory
 from noslipsim.analysis import CornerError, bounce_orbit, monodromy, two_disk_orbit, wedge_noforce_orbit, wedge_orbit
 from noslipsim.analysis.monodromy import UNIT_TOL, classify
 from noslipsim.analysis.section import (
-    boundary_frames, boundary_log, energy_at, interior_log, reduced_from_log, state_from_reduced, wrap_difference,
+    boundary_frames,
+    boundary_log,
+    energy_at,
+    interior_log,
+    reduced_from_log,
+    state_from_reduced,
+    wrap_difference,
 )
 from noslipsim.analysis.tangent import step_jacobians
 

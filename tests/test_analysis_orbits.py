@@ -124,7 +124,7 @@ def test_two_disk_orbit_with_gravity_stable_cases_over_hundreds_of_periods(radiu
 def test_two_disk_orbit_with_gravity_matches_the_wedge_theorem():
     """phi > 0 takes theory.wedge_two_periodic_start; the launch is its velocity, shifted to q0."""
     R, phi, gamma, theta, g = 0.6, 0.5, 0.8, 0.7, 2.0
-    scene, state = two_disk_orbit(R, phi, gamma, theta=theta, gravity=g)
+    _scene, state = two_disk_orbit(R, phi, gamma, theta=theta, gravity=g)
     d = 2 - 2 * R * math.cos(phi)
     _, v0, w0 = theory.wedge_two_periodic_start(phi, theta, d / (2 * math.sin(phi)), gamma, g=g)
     assert state["spin"] == w0
@@ -227,5 +227,5 @@ def test_bounce_orbit_argument_errors():
         bounce_orbit(0.3, 0.0, 0.7)
     with pytest.raises(ValueError, match="gravity"):
         bounce_orbit(0.3, 1.0, 0.7, gravity=0.0)
-    scene, state = bounce_orbit(0.0, 1.0, 0.0)
+    _scene, state = bounce_orbit(0.0, 1.0, 0.0)
     assert state["spin"] == 0.0

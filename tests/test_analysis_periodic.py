@@ -13,7 +13,12 @@ import pytest
 import noslipsim as ns
 from noslipsim import tables
 from noslipsim.analysis import (
-    PeriodicOrbit, bounce_orbit, find_periodic_orbit, two_disk_orbit, wedge_noforce_orbit, wedge_orbit,
+    PeriodicOrbit,
+    bounce_orbit,
+    find_periodic_orbit,
+    two_disk_orbit,
+    wedge_noforce_orbit,
+    wedge_orbit,
 )
 
 G = 1 / math.sqrt(2)
@@ -123,7 +128,7 @@ def test_wedge_with_gravity_strictly_isolated_periodic_orbit():
     scene = tables.wedge(0.7195268216296624, gamma=0.3, force=(0.0, -1.0))
     res = find_periodic_orbit(scene, (-0.46, 1.811), (1.66, -0.505), -1.158, period=5)
     assert res.converged and res.residual <= 1e-12, res.message
-    ds, X = states(scene, res.state, 5 * 200 + 1)
+    _ds, X = states(scene, res.state, 5 * 200 + 1)
     assert minimal_period(X, 5) == 5
     assert period_drift(X, 5) < 1e-12
     m = res.monodromy
@@ -170,7 +175,7 @@ def test_periodic_orbit_on_a_lattice():
     scene = tables.sinai_torus(0.3)
     res = find_periodic_orbit(scene, (0.5, 0.001), (1.0, 0.002), 0.001, period=2)
     assert res.converged and res.residual <= 1e-12, res.message
-    ds, X = states(scene, res.state, 6)
+    _ds, X = states(scene, res.state, 6)
     assert period_drift(X, 2) < 1e-9
     assert res.monodromy.kind == "hyperbolic"  # dispersing disks, nearly head-on: lambda + 1/lambda > 2
     assert abs(X[0, 0] - X[1, 0]) == pytest.approx(0.4, abs=1e-3)  # between two disk copies 1 apart

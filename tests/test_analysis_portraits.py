@@ -7,7 +7,11 @@ import pytest
 import noslipsim as ns
 from noslipsim import Circle, Scene, Segment, tables
 from noslipsim.analysis import (
-    birkhoff_coordinates, birkhoff_states, boundary_coordinate, reduced_portrait, reduced_states,
+    birkhoff_coordinates,
+    birkhoff_states,
+    boundary_coordinate,
+    reduced_portrait,
+    reduced_states,
     velocity_portrait,
 )
 from noslipsim.experiments import phase_portrait

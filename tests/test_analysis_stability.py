@@ -8,9 +8,9 @@ import pytest
 
 import noslipsim as ns
 from noslipsim import theory
-from noslipsim.core import layout
 from noslipsim.analysis import monodromy, stability_grid, stability_grid_theta, two_disk_orbit
 from noslipsim.analysis.stability import _check_bounces, _logs, _two_bounce, agreement_share
+from noslipsim.core import layout
 
 GAMMA = 1 / math.sqrt(2)
 #: A modest grid over the paper's ranges (phi up to the nearly tangent orbits the paper warns about).

@@ -191,7 +191,8 @@ PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 @pytest.mark.parametrize("scene, start", [
     (BOX, START),                                                                     # plain, no force
-    (str(ROOT / "examples" / "galton_peg.yaml"), ["--position", "0.1", "2.0", "--velocity", "0.3", "0"]),  # lines, force
+    # lines, force
+    (str(ROOT / "examples" / "galton_peg.yaml"), ["--position", "0.1", "2.0", "--velocity", "0.3", "0"]),
 ])
 def test_plot_writes_an_image(capsys, tmp_path, scene, start):
     out = tmp_path / "figs" / "orbit.png"

@@ -18,11 +18,11 @@ from lean_kernels import LOG, NONE, PORTRAIT, kernels, run, same_stop
 
 from noslipsim import Circle, Scene, Segment, simulate, simulate_many, tables
 from noslipsim._engine.canonical import canonical_form
+from noslipsim._engine.lattice import cell_origin, lattice_matrix
+from noslipsim._engine.table import kernel_table
 from noslipsim.core import layout
 from noslipsim.core.disks import disk_lattice_kernel
 from noslipsim.core.loop import orbit_kernel
-from noslipsim._engine.lattice import cell_origin, lattice_matrix
-from noslipsim._engine.table import kernel_table
 
 SQUARE = {"a1": [1.0, 0.0], "a2": [0.0, 1.0]}
 HEX = {"a1": [1.0, 0.0], "a2": [0.5, math.sqrt(3.0) / 2.0]}
@@ -98,7 +98,8 @@ def test_dispatch_takes_disjoint_disks_without_force():
         assert kernel_table(scene).disk_lattice is True and kernel_table(scene).one_disk_per_cell is False
         assert orbit_kernel(*kernel_table(scene).variant(LOG)) is lean
         assert kernel_table(canonical_form(user_scene(name) if name != "hex_0.45" else scene).scene).disk_lattice
-    assert kernel_table(tables.sinai_torus(0.25)).disk_lattice and kernel_table(tables.sinai_torus(0.25)).one_disk_per_cell
+    torus = kernel_table(tables.sinai_torus(0.25))
+    assert torus.disk_lattice and torus.one_disk_per_cell
     # disks inside the cell (no copy shifted) and disks reaching into neighbouring cells are both covered
     shifted = {name: bool(kernel_table(kernel_scene(name)).arrays()[2][:, 1:].any()) for name in NAMES}
     assert shifted == {"two disks": False, "two disks, reaching": True, "five disks": True, "honeycomb": False,
@@ -115,7 +116,8 @@ def test_dispatch_takes_disjoint_disks_without_force():
     Scene((Circle((0.0, 0.0), 0.2), Segment((0.3, 0.3), (0.4, 0.4))), lattice=SQUARE),  # not only disks
     Scene((Circle((0.0, 0.0), 0.2), Circle((0.0, 0.0), 0.45, "inside")), lattice=SQUARE),  # a container
     Scene((Circle((0.0, 0.0), 0.2), Circle((0.5, 0.5), 0.1))),  # no lattice
-], ids=["overlap", "touch", "within gap", "touch, written apart", "own copies touch", "force", "segment", "container", "plain"])
+], ids=["overlap", "touch", "within gap", "touch, written apart", "own copies touch", "force", "segment", "container",
+        "plain"])
 def test_dispatch_refuses_what_the_lean_loop_cannot_run(scene):
     assert kernel_table(scene).disk_lattice is False
     assert kernel_table(canonical_form(scene).scene).variant(LOG)[4] is False

@@ -19,6 +19,7 @@ import pytest
 import test_stress as ts
 
 from noslipsim import tables
+from noslipsim._engine.table import kernel_table
 from noslipsim.core import layout
 from noslipsim.core.energy import (
     MAX_EXCESS,
@@ -30,7 +31,6 @@ from noslipsim.core.energy import (
 )
 from noslipsim.core.laws import collide
 from noslipsim.simulate import run_one
-from noslipsim._engine.table import kernel_table
 
 #: Issue 13's bound on the drift of E = (|v|^2 + w^2)/2 - a.q per 10^6 collisions (relative).
 DRIFT_PER_MILLION = 1e-12

@@ -23,22 +23,22 @@ Everything else (whether there is a hit, which element, at what time) must agree
 """
 import functools
 import inspect
+import itertools
 import math
 import zlib
 
 import mpmath
+import naive
 import numpy as np
 import pytest
 
 from noslipsim import Arc, Circle, Line, Scene, Segment
+from noslipsim._engine.table import kernel_table
 from noslipsim.core import events, roots
 from noslipsim.core.events import element_hit_time, exit_roots, hit_in_cell, leaves_through_contact
 from noslipsim.core.geometry import place_on_element
 from noslipsim.core.layout import ARC, CIRCLE, END_START, LINE, SEGMENT
 from noslipsim.core.tolerances import CONTACT_TOL, EXTENT_TOL
-
-import naive
-from noslipsim._engine.table import kernel_table
 
 INF = math.inf
 EPS = 2.0 ** -52
@@ -76,7 +76,7 @@ def next_hit(kinds, params, x, y, vx, vy, ax, ay, has_force, current, hi, extent
     return t, e
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def row(element):
     """The kernel's (kind, params row) of one element, through the public Scene API."""
     kinds, params = kernel_table(Scene([element])).arrays()[:2]
@@ -251,7 +251,7 @@ def point_on(rng, element, frac=None):
         f = rng.uniform(0.05, 0.95) if frac is None else frac
         p0, p1 = element.p0, element.p1
         P = (p0[0] + f * (p1[0] - p0[0]), p0[1] + f * (p1[1] - p0[1]))
-        kind, prow = row(element)
+        _kind, prow = row(element)
         return P, (prow[2], prow[3])
     if name == "Circle":
         th = rng.uniform(0, 2 * math.pi)
@@ -327,10 +327,10 @@ def test_random_flights(kind, force):
     the element, some from behind one-sided pieces, some with a finite horizon ``hi``."""
     rng = np.random.default_rng(seed_of("flights", kind, force))
     results = []
-    for i in range(36):
+    for _i in range(36):
         L = loguni(rng, -3, 3)
         e = random_element(rng, kind, L)
-        for j in range(3):
+        for _j in range(3):
             q, v, a, hi = random_flight(rng, e, force, L)
             results.append(compare_hit(e, q, v, a, False, hi, tag=f"flight/{kind}/{force}"))
     assert_all(results, f"{kind} flights with force '{force}'", min_hits=20)
@@ -346,7 +346,7 @@ def test_random_deflated_flights(kind, force):
         if i % 3 == 0:
             L = loguni(rng, -3, 3)
             e = random_element(rng, kind, L)
-        P, n_in = point_on(rng, e)
+        P, _n_in = point_on(rng, e)
         k, prow = row(e)
         x, y, nx, ny = place_on_element(k, prow, P[0] + 1e-3 * L * rng.normal(), P[1] + 1e-3 * L * rng.normal())
         T = loguni(rng, -1.5, 1.5)
@@ -387,7 +387,7 @@ def test_bouncing_ball_on_a_floor():
         x, y, _, _ = place_on_element(k, prow, L * rng.normal(), y0 + L * rng.normal() * math.tan(ang))
         vt, vn = L * rng.normal(), L * loguni(rng, -1, 1)       # vn > 0: leaving the floor
         v = (vt * n_in[1] + vn * n_in[0], -vt * n_in[0] + vn * n_in[1])
-        for bounce in range(8):
+        for _bounce in range(8):
             t = kernel_hit(floor, (x, y), v, a, deflate=True)
             msg, _ = compare_hit(floor, (x, y), v, a, True, tag="floor")
             if msg:
@@ -446,7 +446,7 @@ def test_bouncing_in_a_circular_container_under_gravity(force):
     """Orbits of 40 specular bounces inside a circle under a force: every deflated cubic against the twin."""
     rng = np.random.default_rng(seed_of("container-gravity", force))
     results = []
-    for orbit in range(5):
+    for _orbit in range(5):
         L = loguni(rng, -2, 2)
         c = Circle(center=tuple(L * rng.normal(size=2)), radius=L, side="inside")
         k, prow = row(c)
@@ -454,7 +454,7 @@ def test_bouncing_in_a_circular_container_under_gravity(force):
         x, y = c.center[0] + 0.3 * L, c.center[1]
         v = (L * rng.normal(), L * rng.normal())
         deflate = False
-        for bounce in range(40):
+        for _bounce in range(40):
             msg, info = compare_hit(c, (x, y), v, a, deflate, tag=f"container/{force}")
             results.append((msg, info))
             if msg:
@@ -473,7 +473,7 @@ def test_ball_bouncing_on_a_peg_under_gravity():
     """From the top of a circular peg, thrown up or sideways under gravity: falls back on the peg or not."""
     rng = np.random.default_rng(seed_of("peg"))
     results = []
-    for i in range(300):
+    for _i in range(300):
         L = loguni(rng, -2, 2)
         peg = Circle(center=tuple(L * rng.normal(size=2)), radius=L, side="outside")
         k, prow = row(peg)
@@ -496,7 +496,7 @@ def test_thrown_out_of_a_bowl_and_caught_again():
     rng = np.random.default_rng(seed_of("bowl"))
     results = []
     second = 0
-    for i in range(150):
+    for _i in range(150):
         L = loguni(rng, -2, 2)
         c = tuple(L * rng.normal(size=2))
         bowl = Arc(center=c, radius=L, theta0=math.pi, theta1=2 * math.pi, side="inside")
@@ -531,7 +531,7 @@ def osculating_flight(rng, r, g, center=(0.0, 0.0)):
 def test_flight_osculating_a_peg():
     rng = np.random.default_rng(seed_of("osculate"))
     results = []
-    for i in range(300):
+    for _i in range(300):
         L = loguni(rng, -1, 1)
         peg = Circle(center=tuple(L * rng.normal(size=2)), radius=L)
         q, v, a = osculating_flight(rng, L, loguni(rng, -1, 1), peg.center)
@@ -558,7 +558,7 @@ def test_grazing_a_scatterer_without_force(eps_angle, hit):
     ``~sqrt(eps_angle)`` apart relative, so the count must agree all the way down to 1e-8."""
     rng = np.random.default_rng(seed_of("graze-circle", eps_angle, hit))
     results, wrong = [], []
-    for i in range(40):
+    for _i in range(40):
         L = loguni(rng, -2, 2)
         e = Circle(center=tuple(L * rng.normal(size=2)), radius=L * loguni(rng, -0.3, 0.3), side="outside")
         D = e.radius * (1.0 + loguni(rng, -1, 1))
@@ -591,7 +591,7 @@ def test_parabola_grazing(kind, depth, hit):
     """
     rng = np.random.default_rng(seed_of("graze-parabola", kind, depth, hit))
     results, wrong = [], []
-    for i in range(30):
+    for _i in range(30):
         L = loguni(rng, -2, 2)
         g = loguni(rng, -1, 1)
         c = tuple(L * rng.normal(size=2))
@@ -615,7 +615,7 @@ def test_parabola_grazing(kind, depth, hit):
         with mpmath.workdps(50):
             t_twin = naive.naive_element_hit_time(e, q, v, a)
             ex = [r for r, k, _ in naive.naive_real_roots(naive.naive_crossing_poly(e, q, v, a)[0]) if k != "touch"]
-            sep = min((abs(r2 - r1) / r1 for r1, r2 in zip(ex, ex[1:])), default=mpmath.inf)
+            sep = min((abs(r2 - r1) / r1 for r1, r2 in itertools.pairwise(ex)), default=mpmath.inf)
         if depth >= 1e-12 and (sep > SEP) and ((t_twin < mpmath.inf) != hit):
             wrong.append(("twin", e, q, v))
         if depth >= 1e-12 and (kernel_hit(e, q, v, a) < INF) != hit:
@@ -630,7 +630,7 @@ def test_nearly_parallel_straight_flights(kind, eps_angle):
     """Flights at ``eps_angle`` to a line (hit far away: ill-conditioned by ``1/eps_angle``)."""
     rng = np.random.default_rng(seed_of("parallel", kind, eps_angle))
     results = []
-    for i in range(40):
+    for _i in range(40):
         L = loguni(rng, -2, 2)
         e = random_element(rng, kind, L)
         if kind == "segment":   # long enough to be met far away
@@ -668,13 +668,13 @@ def test_hits_at_segment_ends(end, side, force):
     """Hits 1e-9 .. 1e-12 inside and outside an end, and 0.5..2 x EXTENT_TOL beyond it."""
     rng = np.random.default_rng(seed_of("ends", end, side, force))
     results, wrong = [], []
-    for i in range(8):
+    for _i in range(8):
         L = loguni(rng, -2, 2)
         p0 = tuple(L * rng.normal(size=2))
         d = random_direction(rng)
         length = L * loguni(rng, -0.3, 0.3)
         e = Segment(p0=p0, p1=(p0[0] + length * d[0], p0[1] + length * d[1]), side=side)
-        k, prow = row(e)
+        _k, prow = row(e)
         for off in END_OFFSETS:
             n_in = (prow[2], prow[3])
             q_far = (p0[0] + 3 * L * n_in[0], p0[1] + 3 * L * n_in[1])
@@ -708,7 +708,7 @@ def test_hits_at_segment_ends(end, side, force):
 def test_hits_at_arc_ends(end, side):
     rng = np.random.default_rng(seed_of("arc-ends", end, side))
     results, wrong = [], []
-    for i in range(8):
+    for _i in range(8):
         for off in END_OFFSETS:
             L = loguni(rng, -2, 2)
             c = tuple(L * rng.normal(size=2))
@@ -823,8 +823,10 @@ def scene_for(name, rng):
         els.append(Circle(center=(0.5 * L, 0.5 * L), radius=0.25 * L))
         return els, (0.1 * L, 0.1 * L), L
     if name == "stadium":
-        els = [Segment(p0=(0, 0), p1=(L, 0)), Arc(center=(L, 0.5 * L), radius=0.5 * L, theta0=-math.pi / 2, theta1=math.pi / 2),
-               Segment(p0=(L, L), p1=(0, L)), Arc(center=(0, 0.5 * L), radius=0.5 * L, theta0=math.pi / 2, theta1=3 * math.pi / 2)]
+        els = [Segment(p0=(0, 0), p1=(L, 0)),
+               Arc(center=(L, 0.5 * L), radius=0.5 * L, theta0=-math.pi / 2, theta1=math.pi / 2),
+               Segment(p0=(L, L), p1=(0, L)),
+               Arc(center=(0, 0.5 * L), radius=0.5 * L, theta0=math.pi / 2, theta1=3 * math.pi / 2)]
         return els, (0.3 * L, 0.4 * L), L
     els = [Circle(center=(0.0, 0.0), radius=L, side="inside"),
            Circle(center=(0.3 * L, 0.2 * L), radius=0.1 * L), Circle(center=(-0.4 * L, -0.1 * L), radius=0.15 * L),
@@ -889,7 +891,8 @@ def test_exit_roots_without_force_are_the_closed_forms():
         if kind in (LINE, SEGMENT):
             want = (INF, INF) if deflate else (roots.linear_exit(c[0], c[1], hi), INF)
         else:
-            want = (roots.linear_exit(c[1], c[2], hi), INF) if deflate else (roots.quadratic_exit(c[0], c[1], c[2], hi), INF)
+            exit_root = roots.linear_exit(c[1], c[2], hi) if deflate else roots.quadratic_exit(c[0], c[1], c[2], hi)
+            want = (exit_root, INF)
         if got != want:
             bad.append((kind, c, deflate, hi, got, want))
     assert not bad, f"{len(bad)} differ: {bad[:3]}"
@@ -915,10 +918,10 @@ def test_scene_without_force_never_solves_a_cubic_or_quartic(monkeypatch):
         return next_hit(*args, hit=events.hit_in_cell.py_func)
 
     for name in ("box", "sinai", "stadium", "pegs"):
-        els, q0, L = scene_for(name, rng)
+        els, q0, _ = scene_for(name, rng)
         kinds, params = kernel_table(Scene(els)).arrays()[:2]
         for current in range(-1, len(els)):
-            for k in range(10):
+            for _k in range(10):
                 d = unit(rng.uniform(0, 2 * math.pi))
                 t, i = py_next_hit(kinds, params, q0[0], q0[1], d[0], d[1], 0.0, 0.0, False, current, INF, 1e-11)
                 tc, ic = next_hit(kinds, params, q0[0], q0[1], d[0], d[1], 0.0, 0.0, False, current, INF, 1e-11)
@@ -926,7 +929,7 @@ def test_scene_without_force_never_solves_a_cubic_or_quartic(monkeypatch):
     assert calls == {"cubic_exits": 0, "quartic_exits": 0}
     # the counters do count: the same scenes under gravity use both paths
     for name in ("sinai", "pegs"):
-        els, q0, L = scene_for(name, rng)
+        els, q0, _L = scene_for(name, rng)
         kinds, params = kernel_table(Scene(els)).arrays()[:2]
         for current in range(-1, len(els)):
             py_next_hit(kinds, params, q0[0], q0[1], 1.0, 0.3, 0.0, -1.0, True, current, INF, 1e-11)

@@ -13,11 +13,11 @@ import numpy as np
 import pytest
 
 from noslipsim import tables
+from noslipsim._engine.table import kernel_table
 from noslipsim.core.events import advance, flight_position, hit_in_cell
 from noslipsim.core.geometry import crossing_coefficients, crossing_slope
 from noslipsim.core.layout import ARC, CIRCLE, LINE, SEGMENT
 from noslipsim.core.tolerances import EXTENT_TOL
-from noslipsim._engine.table import kernel_table
 
 
 def test_advance_without_force_is_the_flight_with_zero_acceleration():

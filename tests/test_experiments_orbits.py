@@ -7,7 +7,12 @@ import pytest
 from noslipsim import theory
 from noslipsim.analysis import bounce_orbit
 from noslipsim.experiments import (
-    bounce_orbits, newwedge_orbits, pentagon_orbits, sphere_bounce, specular_noslip_orbits, two_disk_box_orbits,
+    bounce_orbits,
+    newwedge_orbits,
+    pentagon_orbits,
+    specular_noslip_orbits,
+    sphere_bounce,
+    two_disk_box_orbits,
 )
 
 G = 1 / math.sqrt(2)

@@ -8,7 +8,11 @@ import pytest
 from noslipsim import Scene, simulate, tables
 from noslipsim.analysis import islands
 from noslipsim.experiments import (
-    hex_force_portraits, lemon_sinai_portraits, polygon_portraits, portrait_set, sinai_gamma_portraits,
+    hex_force_portraits,
+    lemon_sinai_portraits,
+    polygon_portraits,
+    portrait_set,
+    sinai_gamma_portraits,
     sinai_islands_sweep,
 )
 
@@ -19,7 +23,7 @@ def check_portrait_values(ds):
     r = np.hypot(ds.vt_unit.values, ds.w_unit.values)
     assert (r[np.isfinite(r)] <= 1 + TOL).all()
     s = ds.s_boundary.values
-    L = ds.boundary_length.values.reshape(ds.boundary_length.shape + (1, 1))
+    L = ds.boundary_length.values.reshape((*ds.boundary_length.shape, 1, 1))
     assert ((s >= -TOL) & (s <= L + TOL))[np.isfinite(s)].all()
     # a point is either wholly recorded or padding
     assert (np.isfinite(ds.vt_unit.values) == np.isfinite(ds.s_boundary.values)).all()

@@ -264,15 +264,15 @@ def test_regressions_found_by_fuzzing():
     # start_elements that are not integers: a dict raised a bare TypeError, '' a bare ValueError,
     # and 0.5 was silently truncated to element 0
     for bad in ({}, "", [0.5]):
-        with pytest.raises(ValueError, match="^start_elements: expected integer"):
+        with pytest.raises(ValueError, match=r"^start_elements: expected integer"):
             ns.simulate_many(tables.rectangle(1.0, 1.0), [[0.45, 0.45]], [[0.3, 0.2]], start_elements=bad)
     # a scene built directly from things that are not elements was accepted, or failed unnamed
     with pytest.raises(TypeError, match=r"^elements\[0\]: expected a Line"):
         Scene((1, 2))
-    with pytest.raises(TypeError, match="^elements: expected a sequence"):
+    with pytest.raises(TypeError, match=r"^elements: expected a sequence"):
         Scene(5)
     # a non-numeric time limit
-    with pytest.raises(ValueError, match="^max_time: expected a number"):
+    with pytest.raises(ValueError, match=r"^max_time: expected a number"):
         ns.simulate(tables.rectangle(1.0, 1.0), (0.5, 0.5), (1.0, 0.3), max_time="")
 
 

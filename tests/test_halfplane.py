@@ -3,10 +3,9 @@ import math
 
 import numpy as np
 import pytest
+from conftest import GAMMAS
 
 from noslipsim import simulate, tables
-
-from conftest import GAMMAS
 
 
 def drift_formula(u, vx, w, gamma, g):

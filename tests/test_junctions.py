@@ -3,7 +3,6 @@ import math
 
 import numpy as np
 import pytest
-
 from invariants import leak_depth
 
 from noslipsim import Circle, Scene, Segment, simulate, tables

@@ -3,12 +3,11 @@ import math
 
 import numpy as np
 import pytest
+from conftest import GAMMAS
 
 from noslipsim import Scene, simulate, tables
 from noslipsim.core.laws import collide, noslip_coefficients
 from noslipsim.core.layout import NOSLIP, SPECULAR
-
-from conftest import GAMMAS
 
 
 def frame(n):

@@ -28,8 +28,8 @@ import numpy as np
 import pytest
 
 from noslipsim import simulate, tables
-from noslipsim.reference import resume_reference, simulate_reference
 from noslipsim._engine.table import kernel_table
+from noslipsim.reference import resume_reference, simulate_reference
 
 EPS = float(np.finfo(float).eps)
 LENGTH = 1e6
@@ -145,7 +145,7 @@ def test_a_loop_compiled_without_the_check_is_off_far_along_the_wall(monkeypatch
     from noslipsim._engine.table import KernelTable
 
     variant = KernelTable.variant
-    monkeypatch.setattr(KernelTable, "variant", lambda self, mode: variant(self, mode)[:5] + (False,))
+    monkeypatch.setattr(KernelTable, "variant", lambda self, mode: (*variant(self, mode)[:5], False))
     for law, force in (("specular", "none"), ("no-slip", "onto_wall")):
         rows = one_step_errors("centred", law, FORCES[force], LENGTH / 2)
         worst = max(max(r["t_err"], r["v_err"] / r["force_gain"]) / r["bound"] for r in rows)

@@ -211,7 +211,7 @@ def test_package_attributes_round_trip(tmp_path):
 def test_no_attribute_is_a_python_repr():
     """``str(dict)`` / ``str(list)`` is not JSON: no package dataset stores one."""
     for ds in (CORE["simulate_many final"](), CORE["reference"](), CORE["simulate"]()):
-        for key, value in ds.attrs.items():
+        for _key, value in ds.attrs.items():
             if isinstance(value, str) and value[:1] in "{[":
                 json.loads(value)
 

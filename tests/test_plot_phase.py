@@ -2,14 +2,14 @@
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pytest  # noqa: E402
-import xarray as xr  # noqa: E402
-from matplotlib.colors import to_rgba  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+import xarray as xr
+from matplotlib.colors import to_rgba
 
-from noslipsim import plot  # noqa: E402
-from noslipsim.plot.phase import SEA_COLOR  # noqa: E402
+from noslipsim import plot
+from noslipsim.plot.phase import SEA_COLOR
 
 
 def portrait(n_orbits=4, n_points=10, seed=0):

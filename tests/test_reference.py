@@ -429,7 +429,7 @@ def test_reference_sign_pin_ball_moving_right_onto_floor_spins_clockwise():
 
 
 def test_dataset_layout_matches_simulate():
-    scene, q, v, w, n, kw = CASES["dome_box"]
+    scene, q, v, w, _n, _kw = CASES["dome_box"]
     ref, flt = run_both(scene, q, v, w, 5)
     assert set(ref.data_vars) == set(flt.data_vars)
     for name in flt.data_vars:

@@ -517,7 +517,7 @@ def test_lattice_reference_equals_the_explicitly_tiled_reference(name, n):
     """
     scene, q, v, w = _dyadic(name)
     lat = simulate_reference(scene, q, v, w, max_collisions=n, dps=ORACLE_DPS, as_mpf=True)
-    cells = np.array(lat.cells + [lat.final_cell])
+    cells = np.array([*lat.cells, lat.final_cell])
     assert len(np.unique(cells, axis=0)) >= 3  # the walk crosses cells
     flat_scene, where = explicit_tiling(scene, tuple(cells.min(axis=0) - 1), tuple(cells.max(axis=0) + 1))
     flat = simulate_reference(flat_scene, q, v, w, max_collisions=n, dps=ORACLE_DPS, as_mpf=True)
@@ -627,7 +627,7 @@ def test_reference_conserves_energy_and_reverses_the_contact_velocity(name):
 
 
 def test_dataset_layout_matches_simulate():
-    scene, q, v, w, _, kw = with_law("two_disk_cell", "no-slip", DISK)
+    scene, q, v, w, _, _kw = with_law("two_disk_cell", "no-slip", DISK)
     ref = simulate_reference(scene, q, v, w, max_collisions=5, dps=DPS)
     flt = simulate(scene, q, v, w, max_collisions=5)
     assert set(ref.data_vars) == set(flt.data_vars)
@@ -657,8 +657,8 @@ def _wrong_step(strip_exit):
 
 def _wrong_cell(cell):
     def mutated(self, x, y):
-        n1, n2 = cell(self, x, y)
-        alpha, beta = self.coordinates(x, y)
+        _n1, n2 = cell(self, x, y)
+        alpha, _beta = self.coordinates(x, y)
         return int(self.ctx.floor(alpha)), n2  # cells [n, n + 1) along a1 instead of the nearest site
     return mutated
 
@@ -688,7 +688,7 @@ def test_a_wrong_cell_walk_fails_the_comparison(monkeypatch, mutation):
 def test_every_collision_agrees_long(name, law, gamma):
     """The per-collision comparison over 300 collisions, from three starts per scene."""
     scene, q, v, w, _, kw = with_law(name, law, gamma)
-    for k, turn in enumerate((0.0, 1.0, 2.2)):
+    for _k, turn in enumerate((0.0, 1.0, 2.2)):
         vel = (v[0] * math.cos(turn) - v[1] * math.sin(turn), v[0] * math.sin(turn) + v[1] * math.cos(turn))
         shadow(scene, q, vel, w, 300, kw)
 

@@ -11,13 +11,12 @@ import math
 
 import numpy as np
 import pytest
+from naive import naive_all_real_roots
+from test_roots import compare_exits, loguni, seed_of
 
 from noslipsim.core.geometry import crossing_coefficients
 from noslipsim.core.layout import CIRCLE
 from noslipsim.core.roots import convex_first_exit, surely_convex, surely_positive
-
-from naive import naive_all_real_roots
-from test_roots import compare_exits, loguni, seed_of
 
 INF = math.inf
 

@@ -24,15 +24,19 @@ import zlib
 from fractions import Fraction
 
 import mpmath
+import naive
 import numpy as np
 import pytest
+from naive import naive_all_real_roots, naive_exit_roots, naive_real_roots, naive_roots_between
 
 from noslipsim.core.roots import (
-    cubic_exits, cubic_roots_in, linear_exit, quadratic_exit, quadratic_roots, quartic_exits,
+    cubic_exits,
+    cubic_roots_in,
+    linear_exit,
+    quadratic_exit,
+    quadratic_roots,
+    quartic_exits,
 )
-
-import naive
-from naive import naive_all_real_roots, naive_exit_roots, naive_real_roots, naive_roots_between
 
 INF = math.inf
 EPS = 2.0 ** -52
@@ -291,7 +295,7 @@ def test_degree_drop_on_exact_zero_leading_coefficients(family):
         for called in range(true_degree + 1, 5):
             if called < 3:
                 continue
-            for i in range(60):
+            for _i in range(60):
                 if true_degree == 1:
                     c = [rng.choice([-1, 1]) * loguni(rng, -3, 3), rng.choice([-1, 1]) * loguni(rng, -3, 3)]
                     hi = INF
@@ -316,7 +320,7 @@ def test_zero_inner_coefficients():
     failures = []
     n = 0
     for degree in (2, 3, 4):
-        for i in range(120):
+        for _i in range(120):
             c = list(rng.normal(size=degree + 1) * 10.0 ** rng.uniform(-3, 3, degree + 1))
             for j in range(degree):
                 if rng.random() < 0.5:
@@ -334,7 +338,7 @@ def test_linear_exit_is_correctly_rounded():
     """``-c0 / c1`` is one IEEE division: the kernel's exit is the twin's root rounded to nearest."""
     rng = np.random.default_rng(seed_of("linear"))
     bad = []
-    for i in range(1500):
+    for _i in range(1500):
         c0 = rng.choice([-1.0, 1.0, 1.0, 1.0]) * loguni(rng, -12, 12)
         c1 = rng.choice([-1.0, -1.0, 1.0]) * loguni(rng, -12, 12)
         hi = INF if rng.random() < 0.7 else loguni(rng, -14, 14)
@@ -477,7 +481,7 @@ def test_exact_rescaling_is_bitwise_invariant(degree):
         k = int(rng.integers(-150, 151))
         scaled = [math.ldexp(v, k) for v in c]
         if kernel_exits(scaled, hi, degree) != base:
-            bad.append(("p * 2^%d" % k, c, hi, base, kernel_exits(scaled, hi, degree)))
+            bad.append((f"p * 2^{k}", c, hi, base, kernel_exits(scaled, hi, degree)))
         if hi < INF:
             j = int(rng.integers(-20, 21))
             # p(t) = sum c_i t^i, s = 2^j t: p = sum (c_i 2^{-i j}) s^i
@@ -485,5 +489,5 @@ def test_exact_rescaling_is_bitwise_invariant(degree):
             want = [math.ldexp(t, j) for t in base]
             got = kernel_exits(tc, math.ldexp(hi, j), degree)
             if got != want:
-                bad.append(("t * 2^%d" % j, c, hi, want, got))
+                bad.append((f"t * 2^{j}", c, hi, want, got))
     assert not bad, f"{len(bad)} rescaled cases differ, first (what, coeffs, hi, expected, got): {bad[:3]}"

@@ -90,7 +90,7 @@ def test_bad_scene_names_the_field(data, field):
 def test_yaml_errors(tmp_path):
     with pytest.raises(ValueError, match="mapping"):
         Scene.from_yaml("- just\n- a list\n")
-    with pytest.raises(FileNotFoundError, match="missing.yaml"):
+    with pytest.raises(FileNotFoundError, match=r"missing\.yaml"):
         Scene.from_yaml(str(tmp_path / "missing.yaml"))
     with pytest.raises(ValueError, match="line 2, column 8"):
         Scene.from_yaml("law: no-slip\n  gamma: 1\n")

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from noslipsim import simulate, tables
-from noslipsim.cli import main
 from noslipsim._metadata import VARIABLES
+from noslipsim.cli import main
 
 BOX = tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.2)])
 

@@ -49,16 +49,15 @@ import functools
 import math
 import time
 
+import invariants as inv
 import numpy as np
 import pytest
 
 from noslipsim import Circle, Line, Scene, simulate, simulate_many, tables
-from noslipsim.core.tolerances import CONTACT_TOL, EXTENT_TOL, MAX_CELLS_PER_FLIGHT
 from noslipsim._engine.lattice import cell_of, cell_origin
-from noslipsim.simulate import START_MARGIN
-
-import invariants as inv
 from noslipsim._engine.table import KernelTable, kernel_table
+from noslipsim.core.tolerances import CONTACT_TOL, EXTENT_TOL, MAX_CELLS_PER_FLIGHT
+from noslipsim.simulate import START_MARGIN
 
 EPS = float(np.finfo(float).eps)
 
@@ -219,7 +218,7 @@ def energy_slope(r):
 
     A random walk has no slope (R^2 near 0); a bias per collision gives a straight line.
     """
-    trace = np.array([(0, 0.0)] + list(r["energy_trace"]))
+    trace = np.array([(0, 0.0), *list(r["energy_trace"])])
     if len(trace) < 3:
         return 0.0, 0.0
     n, e = trace[:, 0] / 1e6, trace[:, 1]
@@ -249,7 +248,7 @@ N_TOTAL = 10 ** 8
 CHUNK = 10 ** 6
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _chain_stress_result(name):
     r = run_chain(name, -(-N_TOTAL // len(chain_families())), CHUNK)
     print({k: v for k, v in r.items() if k != "energy_trace"}, "energy slope per 10^6, R^2:", energy_slope(r))
@@ -930,7 +929,8 @@ def test_corridor_hit_precision_two_disks_per_cell_short():
 def general_loop_only(monkeypatch):
     """Run lattice scenes through the general loop (``core/loop.py``), not the lean disk loop."""
     variant = KernelTable.variant
-    monkeypatch.setattr(KernelTable, "variant", lambda self, mode: variant(self, mode)[:4] + (False,) + variant(self, mode)[5:])
+    monkeypatch.setattr(KernelTable, "variant",
+                        lambda self, mode: (*variant(self, mode)[:4], False, *variant(self, mode)[5:]))
     assert not kernel_table(tables.sinai_torus(0.1)).variant(1)[4]
 
 
@@ -1000,8 +1000,8 @@ def scale_run(name, L, n, n_steps=200, seed=0):
     dq = np.hypot(b.x.values[:m] / L - a.x.values[:m], b.y.values[:m] / L - a.y.values[:m]) / length
     r["bitwise"] = bool(m == len(a.t) == len(b.t) and np.array_equal(b.x.values / L, a.x.values)
                         and np.array_equal(b.y.values / L, a.y.values) and np.array_equal(b.t.values, a.t.values))
-    r["early_error"] = float(max(dq[:EARLY_COLLISIONS].max(),
-                                 (np.abs(b.t.values - a.t.values)[:EARLY_COLLISIONS] / a.t.values[:EARLY_COLLISIONS]).max()))
+    dt = np.abs(b.t.values - a.t.values)[:EARLY_COLLISIONS] / a.t.values[:EARLY_COLLISIONS]
+    r["early_error"] = float(max(dq[:EARLY_COLLISIONS].max(), dt.max()))
     diverged = np.flatnonzero(dq > 1e-6)
     r["chaos_horizon"] = int(diverged[0]) if len(diverged) else m
     h = r["chaos_horizon"]

@@ -7,8 +7,13 @@ import pytest
 from noslipsim import simulate, tables
 from noslipsim.core import laws
 from noslipsim.theory import (
-    ellipticity_threshold, half_plane_drift, noslip_coefficients, projectile_speed,
-    two_disk_eigen_sum, wedge_noforce_gamma, wedge_two_periodic_start,
+    ellipticity_threshold,
+    half_plane_drift,
+    noslip_coefficients,
+    projectile_speed,
+    two_disk_eigen_sum,
+    wedge_noforce_gamma,
+    wedge_two_periodic_start,
 )
 
 GAMMAS = [0.3, 1 / math.sqrt(2), 1.0, 3.0]
@@ -90,7 +95,7 @@ def test_wedge_start_geometry_and_reversal_condition(opening, wall):
     T = 2 * v[1] / g
     q1 = q + v * T + 0.5 * np.array([0.0, -g]) * T ** 2
     np.testing.assert_allclose(q1, [-q[0], q[1]], atol=1e-14)
-    n1, t1 = _wall_frame(opening, "right" if wall == "left" else "left", phi)
+    _n1, t1 = _wall_frame(opening, "right" if wall == "left" else "left", phi)
     v1 = v + np.array([0.0, -g]) * T
     assert v1 @ t1 == pytest.approx(gamma * w, rel=1e-13)
 
@@ -130,7 +135,7 @@ def test_wedge_noforce_gamma_values_and_validation():
                         ((1.0, 1.0, 0.0), "phi"), ((1.0, 1.0, 2.0), "phi"), ((np.inf, 1.0, 0.5), "vx")]:
         with pytest.raises(ValueError, match=f"^{field}"):
             wedge_noforce_gamma(*args)
-    with pytest.raises(ValueError, match="^opening"):
+    with pytest.raises(ValueError, match=r"^opening"):
         wedge_noforce_gamma(1.0, 1.0, 0.5, opening="left")
 
 
@@ -149,7 +154,8 @@ def test_two_disk_eigen_sum_special_cases():
             kd = ellipticity_threshold(phi, gamma)
             assert two_disk_eigen_sum(kd, 1.0, phi, gamma) == pytest.approx(2.0, rel=1e-12)
             if kd > 0:  # (gamma = phi = 0: specular, never elliptic)
-                assert two_disk_eigen_sum(0.99 * kd, 1.0, phi, gamma) < 2 < two_disk_eigen_sum(1.01 * kd, 1.0, phi, gamma)
+                below, above = (two_disk_eigen_sum(f * kd, 1.0, phi, gamma) for f in (0.99, 1.01))
+                assert below < 2 < above
             cb = math.cos(math.atan(gamma)) ** 2  # cos^2(beta/2), gamma = tan(beta/2)
             printed = (2 - 2 * cb * math.cos(phi) ** 2) / (cb * math.cos(phi))
             assert kd == pytest.approx(printed, rel=1e-13)

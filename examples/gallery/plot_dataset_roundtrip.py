@@ -14,7 +14,6 @@ import os
 import tempfile
 
 import matplotlib.pyplot as plt
-import numpy as np
 import xarray as xr
 
 import noslipsim as ns

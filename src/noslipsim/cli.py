@@ -193,7 +193,7 @@ def _short(value, size=60):
 
 def _print_table(ds, out):
     cols = ["t", "x", "y", "vx", "vy", "spin", "element", "s"]
-    out.write("  ".join(f"{c:>12}" for c in ["collision"] + cols) + "\n")
+    out.write("  ".join(f"{c:>12}" for c in ["collision", *cols]) + "\n")
     for i in range(ds.sizes["collision"]):
         vals = [f"{i:>12d}"] + [f"{int(ds[c][i]):>12d}" if c == "element" else f"{float(ds[c][i]):>12.6g}"
                                for c in cols]

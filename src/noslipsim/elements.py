@@ -16,7 +16,9 @@ scene-file form of each is given in docs/scenes.md:
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -75,36 +77,36 @@ class Line:
         _set(self, point=_floats(point), normal=unit_pair(*normal))
 
     @classmethod
-    def from_dict(cls, d, where="element"):
+    def from_dict(cls, d: Mapping[str, Any], where: str = "element") -> Line:
         """Build the element from its scene-file mapping (docs/scenes.md); errors name ``where`` and the field."""
         no_unknown_keys(d, {"type", "point", "normal"}, where)
         return _build(cls, where, point=required(d, "point", where), normal=required(d, "normal", where))
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """The element as its scene-file mapping (the inverse of :meth:`from_dict`)."""
         return {"type": "line", "point": list(self.point), "normal": list(self.normal)}
 
-    def params(self):
+    def params(self) -> list[float]:
         """Kernel parameter row ``[px, py, nx, ny]`` (point; unit normal into the table; ``core/layout.py``)."""
         return [*self.point, *self.normal]
 
-    def size(self):
+    def size(self) -> float:
         """Largest coordinate magnitude of the element: its contribution to the scene's length scale."""
         return max(abs(self.point[0]), abs(self.point[1]))
 
-    def side_distance(self, pts):
+    def side_distance(self, pts: np.ndarray) -> np.ndarray:
         """Signed distance to the supporting line, positive on the table side."""
         return (pts[..., 0] - self.point[0]) * self.normal[0] + (pts[..., 1] - self.point[1]) * self.normal[1]
 
-    def length(self):
+    def length(self) -> float:
         """Length of the line: infinite."""
         return math.inf
 
-    def bbox(self):
+    def bbox(self) -> tuple[float, float, float, float]:
         """``(x0, y0, x1, y1)``: the axis-aligned bounding box (infinite for a line)."""
         return (-math.inf, -math.inf, math.inf, math.inf)
 
-    def shifted(self, dx, dy):
+    def shifted(self, dx: float, dy: float) -> Line:
         """The same element translated by ``(dx, dy)``."""
         return Line((self.point[0] + dx, self.point[1] + dy), self.normal)
 
@@ -129,13 +131,13 @@ class Segment:
         _set(self, p0=_floats(p0), p1=_floats(p1))
 
     @classmethod
-    def from_dict(cls, d, where="element"):
+    def from_dict(cls, d: Mapping[str, Any], where: str = "element") -> Segment:
         """Build the element from its scene-file mapping (docs/scenes.md); errors name ``where`` and the field."""
         no_unknown_keys(d, {"type", "p0", "p1", "side"}, where)
         return _build(cls, where, p0=required(d, "p0", where), p1=required(d, "p1", where),
                       side=d.get("side", "left"))
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """The element as its scene-file mapping (the inverse of :meth:`from_dict`)."""
         return {"type": "segment", "p0": list(self.p0), "p1": list(self.p1), "side": self.side}
 
@@ -146,40 +148,40 @@ class Segment:
         sgn = 1.0 if self.side == "left" else -1.0
         return ux, uy, -sgn * uy, sgn * ux, L
 
-    def params(self):
+    def params(self) -> list[float]:
         """Kernel parameter row ``[p0x, p0y, nx, ny, ux, uy, L]``: start, inward unit normal, unit direction, length."""
         ux, uy, nx, ny, L = self._frame()
         return [self.p0[0], self.p0[1], nx, ny, ux, uy, L]
 
-    def exact_params(self):
+    def exact_params(self) -> dict[int, float]:
         """Kernel columns for distances far along the segment: ``{column: value}`` (``core/layout.py``)."""
         sgn = 1.0 if self.side == "left" else -1.0
         return {layout.SEG_CROSS_SCALE: -sgn / self._frame()[4], layout.SEG_P1X: self.p1[0],
                 layout.SEG_P1Y: self.p1[1]}
 
-    def size(self):
+    def size(self) -> float:
         """Largest coordinate magnitude of the element: its contribution to the scene's length scale."""
         return max(abs(c) for c in (*self.p0, *self.p1))
 
-    def length(self):
+    def length(self) -> float:
         """Length ``|p1 - p0|``."""
         return self._frame()[4]
 
-    def bbox(self):
+    def bbox(self) -> tuple[float, float, float, float]:
         """``(x0, y0, x1, y1)``: the axis-aligned bounding box (infinite for a line)."""
         return (min(self.p0[0], self.p1[0]), min(self.p0[1], self.p1[1]),
                 max(self.p0[0], self.p1[0]), max(self.p0[1], self.p1[1]))
 
-    def shifted(self, dx, dy):
+    def shifted(self, dx: float, dy: float) -> Segment:
         """The same element translated by ``(dx, dy)``."""
         return Segment((self.p0[0] + dx, self.p0[1] + dy), (self.p1[0] + dx, self.p1[1] + dy), self.side)
 
-    def side_distance(self, pts):
+    def side_distance(self, pts: np.ndarray) -> np.ndarray:
         """Signed distance to the supporting line, positive on the table side."""
         _, _, nx, ny, _ = self._frame()
         return (pts[..., 0] - self.p0[0]) * nx + (pts[..., 1] - self.p0[1]) * ny
 
-    def distance(self, pts):
+    def distance(self, pts: np.ndarray) -> np.ndarray:
         """Euclidean distance to the segment (a finite set)."""
         ux, uy, _, _, L = self._frame()
         rx, ry = pts[..., 0] - self.p0[0], pts[..., 1] - self.p0[1]
@@ -205,43 +207,43 @@ class Circle:
         _set(self, center=_floats(center), radius=radius)
 
     @classmethod
-    def from_dict(cls, d, where="element"):
+    def from_dict(cls, d: Mapping[str, Any], where: str = "element") -> Circle:
         """Build the element from its scene-file mapping (docs/scenes.md); errors name ``where`` and the field."""
         no_unknown_keys(d, {"type", "center", "radius", "side"}, where)
         return _build(cls, where, center=required(d, "center", where),
                       radius=required(d, "radius", where), side=d.get("side", "outside"))
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """The element as its scene-file mapping (the inverse of :meth:`from_dict`)."""
         return {"type": "circle", "center": list(self.center), "radius": self.radius, "side": self.side}
 
     @property
-    def sigma(self):
+    def sigma(self) -> float:
         """``+1`` when the table lies outside the circle (a scatterer), ``-1`` inside (a container)."""
         return 1.0 if self.side == "outside" else -1.0
 
-    def params(self):
+    def params(self) -> list[float]:
         """Kernel parameter row ``[cx, cy, r, sigma]``."""
         return [self.center[0], self.center[1], self.radius, self.sigma]
 
-    def size(self):
+    def size(self) -> float:
         """Largest coordinate magnitude of the element: its contribution to the scene's length scale."""
         return max(abs(self.center[0]) + self.radius, abs(self.center[1]) + self.radius)
 
-    def length(self):
+    def length(self) -> float:
         """Circumference ``2 pi r``."""
         return TWO_PI * self.radius
 
-    def bbox(self):
+    def bbox(self) -> tuple[float, float, float, float]:
         """``(x0, y0, x1, y1)``: the axis-aligned bounding box (infinite for a line)."""
         c, r = self.center, self.radius
         return (c[0] - r, c[1] - r, c[0] + r, c[1] + r)
 
-    def shifted(self, dx, dy):
+    def shifted(self, dx: float, dy: float) -> Circle:
         """The same element translated by ``(dx, dy)``."""
         return Circle((self.center[0] + dx, self.center[1] + dy), self.radius, self.side)
 
-    def side_distance(self, pts):
+    def side_distance(self, pts: np.ndarray) -> np.ndarray:
         """Signed distance ``sigma (|q - c| - r)`` to the circle, positive on the table side."""
         rho = np.hypot(pts[..., 0] - self.center[0], pts[..., 1] - self.center[1])
         return self.sigma * (rho - self.radius)
@@ -273,55 +275,56 @@ class Arc:
         _set(self, center=_floats(center), radius=radius, theta0=theta0, theta1=theta1)
 
     @classmethod
-    def from_dict(cls, d, where="element"):
+    def from_dict(cls, d: Mapping[str, Any], where: str = "element") -> Arc:
         """Build the element from its scene-file mapping (docs/scenes.md); errors name ``where`` and the field."""
         no_unknown_keys(d, {"type", "center", "radius", "theta0", "theta1", "side"}, where)
         return _build(cls, where, center=required(d, "center", where),
                       radius=required(d, "radius", where), theta0=required(d, "theta0", where),
                       theta1=required(d, "theta1", where), side=d.get("side", "inside"))
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """The element as its scene-file mapping (the inverse of :meth:`from_dict`)."""
         return {"type": "arc", "center": list(self.center), "radius": self.radius,
                 "theta0": self.theta0, "theta1": self.theta1, "side": self.side}
 
     @property
-    def sigma(self):
+    def sigma(self) -> float:
         """``+1`` when the table lies outside the circle (a scatterer), ``-1`` inside (a container)."""
         return 1.0 if self.side == "outside" else -1.0
 
-    def params(self):
+    def params(self) -> list[float]:
         """Kernel parameter row ``[cx, cy, r, sigma, theta0 mod 2 pi, span]``."""
         return [self.center[0], self.center[1], self.radius, self.sigma,
                 self.theta0 % TWO_PI, self.theta1 - self.theta0]
 
-    def size(self):
+    def size(self) -> float:
         """Largest coordinate magnitude of the element: its contribution to the scene's length scale."""
         return max(abs(self.center[0]) + self.radius, abs(self.center[1]) + self.radius)
 
-    def length(self):
+    def length(self) -> float:
         """Arc length ``r (theta1 - theta0)``."""
         return self.radius * (self.theta1 - self.theta0)
 
-    def bbox(self):  # the full circle's box: conservative
+    def bbox(self) -> tuple[float, float, float, float]:
+        """``(x0, y0, x1, y1)``: the bounding box of the full circle (conservative for an arc)."""
         c, r = self.center, self.radius
         return (c[0] - r, c[1] - r, c[0] + r, c[1] + r)
 
-    def shifted(self, dx, dy):
-        """``(x0, y0, x1, y1)``: the axis-aligned bounding box (infinite for a line)."""
+    def shifted(self, dx: float, dy: float) -> Arc:
+        """The same element translated by ``(dx, dy)``."""
         return Arc((self.center[0] + dx, self.center[1] + dy), self.radius, self.theta0, self.theta1, self.side)
 
-    def endpoints(self):
+    def endpoints(self) -> list[tuple[float, float]]:
         """The arc's two end points, at ``theta0`` and ``theta1``."""
         c, r = self.center, self.radius
         return [(c[0] + r * math.cos(a), c[1] + r * math.sin(a)) for a in (self.theta0, self.theta1)]
 
-    def side_distance(self, pts):
+    def side_distance(self, pts: np.ndarray) -> np.ndarray:
         """Signed distance ``sigma (|q - c| - r)`` to the supporting circle, positive on the table side."""
         rho = np.hypot(pts[..., 0] - self.center[0], pts[..., 1] - self.center[1])
         return self.sigma * (rho - self.radius)
 
-    def distance(self, pts):
+    def distance(self, pts: np.ndarray) -> np.ndarray:
         """Euclidean distance to the arc (a finite set): to the curve within its span, else to the nearer end."""
         dx, dy = pts[..., 0] - self.center[0], pts[..., 1] - self.center[1]
         rel = (np.arctan2(dy, dx) - self.theta0) % TWO_PI
@@ -333,10 +336,13 @@ class Arc:
         return np.where(on_span, d_curve, d_ends)
 
 
+#: Any table element.
+Element = Line | Segment | Circle | Arc
+
 ELEMENT_TYPES = {cls.type_name: cls for cls in (Line, Segment, Circle, Arc)}
 
 
-def element_from_dict(d, where="element"):
+def element_from_dict(d: Mapping[str, Any], where: str = "element") -> Element:
     """Build an element from its scene-file mapping."""
     if not isinstance(d, dict):
         raise ValueError(f"{where}: expected a mapping, got {type(d).__name__}")

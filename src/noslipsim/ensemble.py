@@ -12,9 +12,12 @@ import json
 import math
 import os
 import sys
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
+from numpy.typing import ArrayLike
 
 from ._validate import finite_float
 from ._version import __version__
@@ -169,9 +172,12 @@ def _on_client(client, tasks, show, dprogress):
 
 
 # ---------------------------------------------------------------------------- public API
-def simulate_many(scene: Scene, positions, velocities, spins=None, *, max_collisions=1000,
-                  max_time=math.inf, stop_below=None, record="final", elements=None,
-                  start_elements=None, chunk_size=None, scheduler=None, progress=None, num_workers=None):
+def simulate_many(scene: Scene, positions: ArrayLike, velocities: ArrayLike, spins: ArrayLike | None = None, *,
+                  max_collisions: int = 1000, max_time: float = math.inf, stop_below: float | None = None,
+                  record: str = "final", elements: Sequence[int] | None = None,
+                  start_elements: ArrayLike | None = None, chunk_size: int | None = None,
+                  scheduler: Any = None, progress: bool | None = None,
+                  num_workers: int | None = None) -> xr.Dataset:
     """Simulate many orbits of one scene.
 
     Parameters

@@ -9,14 +9,16 @@ import platform
 import subprocess
 import sys
 import tempfile
+from collections.abc import Mapping
 from importlib import metadata
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from ._version import __version__
 from ._metadata import annotate
+from ._version import __version__
 
 REFERENCES = ("J. Ahmed, T. Chumley, S. Cook, C. Cox, H. Grant, N. Petela, B. Rothrock, R. Xhafaj: "
               "Dynamics of the no-slip Galton board.")
@@ -62,8 +64,8 @@ def _attr(value):
 SOFTWARE = ("numpy", "numba", "llvmlite", "xarray", "netCDF4")
 
 
-@functools.lru_cache(maxsize=None)
-def provenance():
+@functools.cache
+def provenance() -> dict[str, str | int]:
     """What made a dataset: the software versions and the git state of noslipsim's source.
 
     Returns a dict of netCDF-safe attributes: ``software`` (JSON: Python and
@@ -94,7 +96,8 @@ def provenance():
     return {"software": json.dumps(software, sort_keys=True), "git_commit": commit, "git_dirty": dirty}
 
 
-def describe(ds: xr.Dataset, *, title=None, config=None, history=None) -> xr.Dataset:
+def describe(ds: xr.Dataset, *, title: str | None = None, config: Mapping[str, Any] | None = None,
+             history: str | None = None) -> xr.Dataset:
     """Add the global attributes every noslipsim dataset carries; returns a new dataset."""
     ds = annotate(ds.copy())
     stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M:%S UTC")
@@ -127,7 +130,8 @@ def _umask():
 _CREATE_MODE = 0o666 & ~_umask()
 
 
-def write_dataset(ds: xr.Dataset, path, *, title=None, config=None, history=None) -> xr.Dataset:
+def write_dataset(ds: xr.Dataset, path: str | os.PathLike, *, title: str | None = None,
+                  config: Mapping[str, Any] | None = None, history: str | None = None) -> xr.Dataset:
     """Write ``ds`` to netCDF at ``path`` atomically (temporary file, then rename).
 
     Returns the dataset as written (with its global attributes).
@@ -149,7 +153,7 @@ def write_dataset(ds: xr.Dataset, path, *, title=None, config=None, history=None
     return ds
 
 
-def open_dataset(path) -> xr.Dataset:
+def open_dataset(path: str | os.PathLike) -> xr.Dataset:
     """Read a noslipsim dataset fully into memory (the file is closed on return)."""
     with xr.open_dataset(path, engine="netcdf4") as ds:
         return ds.load()

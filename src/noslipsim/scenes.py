@@ -17,9 +17,13 @@ from __future__ import annotations
 
 import json
 import math
+import os
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 import yaml
 
 from ._unit import unit_pair
@@ -163,7 +167,7 @@ class Scene:
 
     # ---------------------------------------------------------------- file format
     @classmethod
-    def from_dict(cls, d):
+    def from_dict(cls, d: Mapping[str, Any]) -> Scene:
         """Build a scene from its mapping form (docs/scenes.md); unknown keys are errors."""
         no_unknown_keys(d, _SCENE_KEYS, "scene")
         elems = required(d, "elements", "scene")
@@ -179,7 +183,7 @@ class Scene:
         )
 
     @classmethod
-    def from_yaml(cls, source):
+    def from_yaml(cls, source: str | os.PathLike) -> Scene:
         """Read a scene from a YAML file path or a YAML string.
 
         Errors name the file and the field (``scene.yaml: elements[2].radius:
@@ -204,7 +208,7 @@ class Scene:
         except (ValueError, TypeError) as err:
             raise type(err)(f"{where}: {err}") from None
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
         """The scene as its scene-file mapping (the inverse of :meth:`from_dict`)."""
         d = {"law": self.law, "gamma": self.gamma, "force": list(self.force)}
         if self.thermostat is not None:
@@ -214,7 +218,7 @@ class Scene:
             d["lattice"] = self.lattice
         return d
 
-    def to_yaml(self, path=None):
+    def to_yaml(self, path: str | os.PathLike | None = None) -> str:
         """The scene as YAML text; also written to ``path`` if given."""
         text = yaml.safe_dump(self.to_dict(), sort_keys=False, default_flow_style=None)
         if path is not None:
@@ -222,11 +226,11 @@ class Scene:
                 fh.write(text)
         return text
 
-    def to_json(self):
+    def to_json(self) -> str:
         """The scene as a JSON string (sorted keys): how datasets store it."""
         return json.dumps(self.to_dict(), sort_keys=True)
 
-    def replace(self, **changes):
+    def replace(self, **changes: Any) -> Scene:
         """A copy with some of ``elements, law, gamma, force, lattice, thermostat`` changed."""
         d = dict(elements=self.elements, law=self.law, gamma=self.gamma, force=self.force,
                  lattice=self.lattice, thermostat=self.thermostat)
@@ -235,11 +239,12 @@ class Scene:
 
     # ---------------------------------------------------------------- physics
     @property
-    def law_code(self):
+    def law_code(self) -> int:
         """The law as the kernels take it (``layout.SPECULAR`` or ``layout.NOSLIP``)."""
         return LAWS[self.law]
 
-    def flight_states(self, x, y, vx, vy, tau):
+    def flight_states(self, x: ArrayLike, y: ArrayLike, vx: ArrayLike, vy: ArrayLike,
+                      tau: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Position and velocity ``(x, y, vx, vy)`` after flights of duration ``tau >= 0`` (arrays, broadcast).
 
         Free fall ``q + v tau + a tau^2/2`` (a straight line without force), or
@@ -260,12 +265,12 @@ class Scene:
         return tuple(out[:, k].reshape(x.shape) for k in range(4))
 
     @property
-    def noslip_coefficients(self):
+    def noslip_coefficients(self) -> tuple[float, float]:
         """``(c, s)`` of the no-slip law for this scene's gamma, with ``c^2 + s^2`` closest to 1."""
         return unit_pair(*noslip_coefficients(self.gamma))
 
     # ---------------------------------------------------------------- geometry
-    def cell_scene(self, cell=(0, 0)):
+    def cell_scene(self, cell: tuple[int, int] = (0, 0)) -> Scene:
         """The plain scene of every element copy that reaches ``cell`` (for inside tests)."""
         if self.lattice is None:
             return self
@@ -279,12 +284,12 @@ class Scene:
         return self.replace(elements=tuple(elems), lattice=None)
 
     @property
-    def scale(self):
+    def scale(self) -> float:
         """Length scale of the table (largest coordinate magnitude of its elements)."""
         return float(max(e.size() for e in self.elements))
 
     # ---------------------------------------------------------------- inside test
-    def depth(self, points):
+    def depth(self, points: ArrayLike) -> np.ndarray:
         """Signed depth of points in the table: > 0 inside, < 0 outside, ~distance to the boundary.
 
         Global constraints (lines, full circles) use their signed distance;
@@ -316,6 +321,6 @@ class Scene:
             depth = np.minimum(depth, sgn * dmin)
         return depth
 
-    def contains(self, points):
+    def contains(self, points: ArrayLike) -> np.ndarray:
         """True for points strictly inside the table."""
         return self.depth(points) > 0.0

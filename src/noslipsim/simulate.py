@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import xarray as xr
+from numpy.typing import ArrayLike
 
 from ._validate import finite_float, finite_vector
 from ._version import __version__
@@ -69,8 +70,9 @@ def check_limits(max_collisions, max_time):
     return int(max_collisions), max_time
 
 
-def simulate(scene: Scene, position, velocity, spin=0.0, max_collisions=1000,
-             max_time=math.inf, stop_below=None):
+def simulate(scene: Scene, position: ArrayLike, velocity: ArrayLike, spin: float = 0.0,
+             max_collisions: int = 1000, max_time: float = math.inf,
+             stop_below: float | None = None) -> xr.Dataset:
     """Simulate one orbit exactly, collision by collision.
 
     Parameters

@@ -30,8 +30,8 @@ from ._validate import finite_float, one_of, positive
 from .core.laws import noslip_coefficients
 
 __all__ = [
-    "noslip_coefficients", "half_plane_drift", "projectile_speed", "wedge_two_periodic_start",
-    "wedge_noforce_gamma", "two_disk_eigen_sum", "ellipticity_threshold",
+    "ellipticity_threshold", "half_plane_drift", "noslip_coefficients", "projectile_speed",
+    "two_disk_eigen_sum", "wedge_noforce_gamma", "wedge_two_periodic_start",
 ]
 
 _OPENINGS = ("up", "down")

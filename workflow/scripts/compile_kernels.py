@@ -10,11 +10,11 @@ import time
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import numba  # noqa: E402
+import numba
 
-import noslipsim as ns  # noqa: E402
-from noslipsim import tables  # noqa: E402
-from noslipsim.core.jit import SOURCE_DIGEST  # noqa: E402
+import noslipsim as ns
+from noslipsim import tables
+from noslipsim.core.jit import SOURCE_DIGEST
 
 # a representative scene of each kind and a start strictly inside it
 TABLES = {
@@ -24,7 +24,7 @@ TABLES = {
     # infinite walls (wedges, the half-plane) take the loop with the long-wall check (KernelTable.long_walls)
     "walls+force": lambda law: (tables.wedge(0.6, law=law), (0.0, 1.0)),
     "lattice": lambda law: (tables.sinai_torus(0.25, law=law).replace(
-        elements=tables.sinai_torus(0.25).elements + (ns.Circle((0.5, 0.5), 0.1),)), (0.3, 0.1)),
+        elements=(*tables.sinai_torus(0.25).elements, ns.Circle((0.5, 0.5), 0.1))), (0.3, 0.1)),
     "lattice+force": lambda law: (tables.galton_board(2.0, 0.5, law=law), (1.0, 0.5)),
     "disks": lambda law: (tables.sinai_torus(0.25, law=law), (0.4, 0.1)),
 }

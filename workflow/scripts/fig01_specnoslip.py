@@ -4,12 +4,12 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import matplotlib  # noqa: E402
+import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
-from noslipsim import plot  # noqa: E402
+from noslipsim import plot
 
 SPIN_RADIUS = 0.055  # drawn particle radius (table lengths); the particle itself is a point
 

@@ -4,12 +4,12 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import matplotlib  # noqa: E402
+import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
-from noslipsim import plot  # noqa: E402
+from noslipsim import plot
 
 ds = plot.load_figure_data(snakemake.input.pentagons)
 orbit = {str(r): ds.isel(orbit=i) for i, r in enumerate(ds.role.values)}
@@ -25,7 +25,7 @@ for ax, (role, title) in zip(axes, panels):
     ax.set_title(title)
     ax.set_axis_off()
 plot.draw_orbit(axes[2], orbit["no-slip periodic"], color="k", linewidth=0.6, ends=False, zorder=3)
-axes[2].text(0.5, -0.02, f"{str(ds.periodic_kind.values)}, rotation {float(ds.rotation_angle):.3f} rad; "
+axes[2].text(0.5, -0.02, f"{ds.periodic_kind.values!s}, rotation {float(ds.rotation_angle):.3f} rad; "
              f"perturbed by {ds.attrs['perturbation']:g} rad", transform=axes[2].transAxes, ha="center",
              va="top", fontsize=7)
 plot.save_figure(fig, snakemake.output.pdf)

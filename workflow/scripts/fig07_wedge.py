@@ -4,13 +4,13 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import matplotlib  # noqa: E402
+import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-from noslipsim import plot  # noqa: E402
+from noslipsim import plot
 
 MARGIN = 0.12  # share of the orbits' extent shown around them
 COLORS = ["#0072B2", "#D55E00", "#009E73", "#CC79A7"]

@@ -4,12 +4,12 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import matplotlib  # noqa: E402
+import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
-from noslipsim import plot  # noqa: E402
+from noslipsim import plot
 
 ds = plot.load_figure_data(snakemake.input.twodisks)
 orbit = {str(r): ds.isel(orbit=i) for i, r in enumerate(ds.role.values)}
@@ -24,7 +24,7 @@ plot.draw_orbit(ax, orbit["no-slip"], linewidth=0.3, ends=False, zorder=3,
                 label=f"no-slip, $\\gamma = {float(orbit['no-slip'].gamma):.3g}$, {n_ns} collisions "
                       f"({int(orbit['no-slip'].box_collisions)} with the box)")
 ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), ncol=2, handlelength=1.5)
-ax.set_title(f"start: the {str(ds.kind.values)} 2-periodic orbit between the disks "
+ax.set_title(f"start: the {ds.kind.values!s} 2-periodic orbit between the disks "
              f"($\\lambda + 1/\\lambda = {float(ds.eigen_sum):.3f}$), velocity turned {ds.attrs['perturbation']:g} rad")
 ax.set_axis_off()
 plot.save_figure(fig, snakemake.output.pdf)

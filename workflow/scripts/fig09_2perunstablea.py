@@ -4,16 +4,16 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import json  # noqa: E402
+import json
 
-import matplotlib  # noqa: E402
+import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.ticker import MaxNLocator  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.ticker import MaxNLocator
 
-from noslipsim import plot  # noqa: E402
+from noslipsim import plot
 
 MARGIN = 0.1  # share of the perturbed orbit's extent shown around it
 LAUNCH_WALL = 0  # q0 is on the left wall (element 0)

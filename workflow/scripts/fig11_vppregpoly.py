@@ -3,12 +3,12 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import matplotlib  # noqa: E402
+import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
-from noslipsim import plot  # noqa: E402
+from noslipsim import plot
 
 ds = plot.load_figure_data(snakemake.input.portraits)
 n = ds.sizes["table"]

@@ -3,13 +3,13 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import matplotlib  # noqa: E402
+import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
-from noslipsim import plot  # noqa: E402
-from noslipsim.analysis import classify_regular, islands_onsets  # noqa: E402
+from noslipsim import plot
+from noslipsim.analysis import classify_regular, islands_onsets
 
 PAPER_ONSET = 0.3  # the paper: "no signs of invariant regions (closed loops) until gamma > 0.3"
 

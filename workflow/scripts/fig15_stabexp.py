@@ -5,12 +5,12 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import matplotlib  # noqa: E402
+import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
-from noslipsim import plot  # noqa: E402
+from noslipsim import plot
 
 LABELS = {"phi": "$\\varphi$ (position of $q_0$)", "theta": "launch angle $\\theta$", "radius": "disk radius $R$"}
 

@@ -5,7 +5,7 @@ from pathlib import Path
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-from noslipsim.plot import numbers_markdown  # noqa: E402
+from noslipsim.plot import numbers_markdown
 
 numbers = {Path(p).stem: json.loads(Path(p).read_text(encoding="utf-8")) for p in snakemake.input}
 table = numbers_markdown(numbers)  # validates every record

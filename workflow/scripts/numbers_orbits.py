@@ -5,10 +5,10 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
+import numpy as np
+import xarray as xr
 
-from noslipsim import theory  # noqa: E402
+from noslipsim import theory
 
 spec = xr.load_dataset(snakemake.input.specnoslip).set_index(orbit="role")
 pent = xr.load_dataset(snakemake.input.pentagons)
@@ -31,7 +31,7 @@ numbers = {
         note=f"{int(pent.periodic_iterations)} Newton steps (find_periodic_orbit)"),
     "pentagon_periodic_kind": dict(
         description="Figure 4: linear class of that orbit (rotation angle of its monodromy, rad)",
-        value=f"{str(pent.periodic_kind.values)} ({float(pent.rotation_angle):.4f})",
+        value=f"{pent.periodic_kind.values!s} ({float(pent.rotation_angle):.4f})",
         paper="orbit restricted to a corridor"),
     "pentagon_corridor_width": dict(
         description=f"Figure 4: corridor width after {int(pent.n_collisions[2])} collisions, velocity turned "
@@ -48,7 +48,7 @@ for i in range(bounce.sizes["orbit"]):
         value=float(o.drift), format=".6g", paper="0 iff v_x = γw (Theorem 1)",
         note=f"formula 4u(v_x - γw)/(g(1+γ²)) = {want:.6g}")
 numbers["twodisk_eigen_sum"] = dict(
-    description=f"Figure 8: λ + 1/λ of the 2-periodic orbit between the disks ({str(disks.kind.values)})",
+    description=f"Figure 8: λ + 1/λ of the 2-periodic orbit between the disks ({disks.kind.values!s})",
     value=float(disks.eigen_sum), format=".10f", paper="elliptic below the threshold",
     note=f"closed form {float(disks.eigen_sum_theory):.10f}")
 numbers["twodisk_box_collisions"] = dict(

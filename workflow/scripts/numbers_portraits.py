@@ -4,10 +4,10 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
+import numpy as np
+import xarray as xr
 
-from noslipsim.analysis.islands import islands_onsets, onset_gamma, regular_share  # noqa: E402
+from noslipsim.analysis.islands import islands_onsets, onset_gamma, regular_share
 
 isl = islands_onsets(xr.load_dataset(snakemake.input.islands), snakemake.params.threshold, snakemake.params.level)
 threshold, level, seed = isl.attrs["regular_threshold"], isl.attrs["visible_share"], int(isl.attrs["seed"])

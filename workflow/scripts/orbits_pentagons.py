@@ -3,8 +3,8 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-from noslipsim import write_dataset  # noqa: E402
-from noslipsim.experiments import pentagon_orbits  # noqa: E402
+from noslipsim import write_dataset
+from noslipsim.experiments import pentagon_orbits
 
 params = snakemake.params.pentagons
 ds = pentagon_orbits(**params)

@@ -3,8 +3,8 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-from noslipsim import write_dataset  # noqa: E402
-from noslipsim.experiments import specular_noslip_orbits  # noqa: E402
+from noslipsim import write_dataset
+from noslipsim.experiments import specular_noslip_orbits
 
 params = snakemake.params.specnoslip
 ds = specular_noslip_orbits(**params)

@@ -5,8 +5,8 @@ import numpy as np
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-from noslipsim import write_dataset  # noqa: E402
-from noslipsim.analysis import stability_grid, stability_grid_theta  # noqa: E402
+from noslipsim import write_dataset
+from noslipsim.analysis import stability_grid, stability_grid_theta
 
 common, shared, grid, kind = (snakemake.params.common, snakemake.params.shared, snakemake.params.grid,
                               snakemake.params.kind)

@@ -5,8 +5,8 @@ import numpy as np
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-from noslipsim import write_dataset  # noqa: E402
-from noslipsim.experiments import wedge_launch_scan  # noqa: E402
+from noslipsim import write_dataset
+from noslipsim.experiments import wedge_launch_scan
 
 common, run = snakemake.params.common, snakemake.params.run
 scan = run["scan"]

@@ -3,8 +3,8 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-from noslipsim import write_dataset  # noqa: E402
-from noslipsim.experiments import perturbed_wedge_orbits  # noqa: E402
+from noslipsim import write_dataset
+from noslipsim.experiments import perturbed_wedge_orbits
 
 common, run = snakemake.params.common, snakemake.params.run
 cases = run["cases"] if "cases" in run else [{"opening": "up", "theta": t, "ell": run["ell"]} for t in run["thetas"]]

@@ -3,8 +3,8 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-from noslipsim import write_dataset  # noqa: E402
-from noslipsim.experiments import wedge_periodic_orbits  # noqa: E402
+from noslipsim import write_dataset
+from noslipsim.experiments import wedge_periodic_orbits
 
 common, run = snakemake.params.common, snakemake.params.run
 ds = wedge_periodic_orbits(run["phi"], common["gamma"], gravity=common["gravity"], reversing=run["reversing"],

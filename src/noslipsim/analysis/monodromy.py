@@ -60,7 +60,7 @@ from ..scenes import Scene
 from .section import interior_log, reduced_from_log, wrap_difference
 from .tangent import check_no_corner, log_product
 
-__all__ = ["Monodromy", "monodromy", "classify", "KINDS"]
+__all__ = ["KINDS", "Monodromy", "classify", "monodromy"]
 
 KINDS = ("elliptic", "hyperbolic", "parabolic")
 

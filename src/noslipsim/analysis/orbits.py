@@ -32,7 +32,7 @@ from .._validate import finite_float, nonnegative, one_of
 from ..core import layout
 from .section import interior_log
 
-__all__ = ["two_disk_orbit", "wedge_orbit", "wedge_noforce_orbit", "bounce_orbit"]
+__all__ = ["bounce_orbit", "two_disk_orbit", "wedge_noforce_orbit", "wedge_orbit"]
 
 #: Relative size of ``v_t`` (against the speed) below which an impact counts as
 #: perpendicular, the only path-reversing impact when ``gamma = 0``.

@@ -33,7 +33,13 @@ from ..core import layout
 from ..scenes import Scene
 from .monodromy import Monodromy, _period, monodromy
 from .section import (
-    boundary_frames, boundary_log, energy_at, interior_log, reduced_from_log, state_from_reduced, wrap_difference,
+    boundary_frames,
+    boundary_log,
+    energy_at,
+    interior_log,
+    reduced_from_log,
+    state_from_reduced,
+    wrap_difference,
 )
 from .tangent import CornerError, check_no_corner, log_product
 

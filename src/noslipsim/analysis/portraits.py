@@ -51,13 +51,15 @@ import math
 import numpy as np
 import xarray as xr
 
+from .._metadata import annotate
 from .._validate import positive
 from ..elements import Arc, Circle, Line, Segment
-from .._metadata import annotate
 from ..scenes import Scene
 
-__all__ = ["boundary_coordinate", "birkhoff_coordinates", "velocity_portrait", "reduced_portrait",
-           "birkhoff_states", "reduced_states"]
+__all__ = [
+    "birkhoff_coordinates", "birkhoff_states", "boundary_coordinate", "reduced_portrait", "reduced_states",
+    "velocity_portrait",
+]
 
 TWO_PI = 2.0 * math.pi
 

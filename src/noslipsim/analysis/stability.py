@@ -47,15 +47,15 @@ import numpy as np
 import xarray as xr
 
 from .. import theory
+from .._metadata import annotate
 from .._validate import finite_float
 from ..core import layout
-from .._metadata import annotate
 from ..ensemble import STOP_FLAGS, simulate_many
 from .monodromy import KINDS, UNIT_TOL, classify
 from .orbits import two_disk_orbit
 from .tangent import check_no_corner, step_jacobians
 
-__all__ = ["stability_grid", "stability_grid_theta", "DEFAULT_PERTURBATION", "agreement_share"]
+__all__ = ["DEFAULT_PERTURBATION", "agreement_share", "stability_grid", "stability_grid_theta"]
 
 #: The default perturbation of the start: velocity turned by 1e-3 rad, spin unchanged.
 DEFAULT_PERTURBATION = {"angle": 1e-3, "spin": 0.0}

@@ -15,7 +15,15 @@ import numpy as np
 from .exact import cross_dd, shifted_dot, two_sum
 from .jit import jit
 from .layout import (
-    ARC, CIRCLE, END_END, END_START, LINE, SEG_CROSS_SCALE, SEG_P1X, SEG_P1Y, SEGMENT,
+    ARC,
+    CIRCLE,
+    END_END,
+    END_START,
+    LINE,
+    SEG_CROSS_SCALE,
+    SEG_P1X,
+    SEG_P1Y,
+    SEGMENT,
 )
 
 TWO_PI = 2.0 * math.pi

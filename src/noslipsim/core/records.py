@@ -4,8 +4,27 @@ import math
 from .geometry import arclength
 from .jit import jit
 from .layout import (
-    LOG_CELL_A1, LOG_CELL_A2, LOG_CORNER, LOG_ELEMENT, LOG_S, LOG_T, LOG_VX, LOG_VX_IN, LOG_VY, LOG_VY_IN, LOG_W,
-    LOG_W_IN, LOG_X, LOG_Y, POR_ELEMENT, POR_S, POR_VN, POR_VT, POR_W, RECORD_LOG, RECORD_PORTRAIT,
+    LOG_CELL_A1,
+    LOG_CELL_A2,
+    LOG_CORNER,
+    LOG_ELEMENT,
+    LOG_S,
+    LOG_T,
+    LOG_VX,
+    LOG_VX_IN,
+    LOG_VY,
+    LOG_VY_IN,
+    LOG_W,
+    LOG_W_IN,
+    LOG_X,
+    LOG_Y,
+    POR_ELEMENT,
+    POR_S,
+    POR_VN,
+    POR_VT,
+    POR_W,
+    RECORD_LOG,
+    RECORD_PORTRAIT,
 )
 
 

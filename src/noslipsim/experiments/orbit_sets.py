@@ -7,8 +7,8 @@ import numpy as np
 import xarray as xr
 
 from .. import initial
-from ..ensemble import simulate_many
 from .._metadata import annotate
+from ..ensemble import simulate_many
 from ..scenes import Scene
 from ..simulate import simulate
 

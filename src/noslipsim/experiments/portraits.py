@@ -13,11 +13,11 @@ import numpy as np
 import xarray as xr
 
 from .. import tables
+from .._metadata import annotate
 from .._validate import count
 from ..analysis import islands
 from ..analysis.portraits import birkhoff_coordinates, boundary_coordinate
 from ..ensemble import simulate_many
-from .._metadata import annotate
 from ..scenes import Scene
 from .galton import gamma_values
 
@@ -169,7 +169,11 @@ def sinai_gamma_portraits(gammas=(0.0, 0.25, 0.5, 0.75, 1.0), *, radius=0.45, n_
     return ds
 
 
-def sinai_islands_sweep(radii=(0.45, 0.4), gammas=tuple(np.round(np.linspace(0.0, 1.0, 21), 10)), *,
+#: gamma = 0, 0.05, ..., 1 (rounded so that the values print as typed)
+GAMMAS_21 = tuple(float(g) for g in np.round(np.linspace(0.0, 1.0, 21), 10))
+
+
+def sinai_islands_sweep(radii=(0.45, 0.4), gammas=GAMMAS_21, *,
                         n_orbits=500, n_collisions=1000, seed=0, progress=False):
     r"""Finite-time exponents of the no-slip Sinai torus against gamma, for several scatterer radii.
 
@@ -231,7 +235,8 @@ def sinai_islands_sweep(radii=(0.45, 0.4), gammas=tuple(np.round(np.linspace(0.0
 
 
 def hex_force_portraits(gammas=(1 / math.sqrt(2), 1.0), forces=(0.0, 0.1, 4.0), *, radius=0.4, n_orbits=100,
-                        n_collisions=5000, seed=0, lyapunov_collisions=5000, energy_collisions=None, chunk_size=None, scheduler=None, progress=None, num_workers=None):
+                        n_collisions=5000, seed=0, lyapunov_collisions=5000, energy_collisions=None, chunk_size=None,
+                        scheduler=None, progress=None, num_workers=None):
     """Velocity portraits of a disk in a closed hexagonal cell under a force (paper, Figure ``VPPforce``).
 
     The table is :func:`noslipsim.tables.closed_hex_cell` with the force ``(0, -g)``; points are
@@ -319,7 +324,8 @@ def polygon_portraits(sides=(4, 6, 12, 20), *, aspect=2.0, gamma=1 / math.sqrt(2
 
 
 def lemon_sinai_portraits(*, lemon_radius=1.0, lemon_distance=1.0, sinai_radius=0.45, gamma=1 / math.sqrt(2),
-                          n_orbits=60, n_collisions=3000, seed=0, lyapunov_collisions=1000, chunk_size=None, scheduler=None, progress=None, num_workers=None):
+                          n_orbits=60, n_collisions=3000, seed=0, lyapunov_collisions=1000, chunk_size=None,
+                          scheduler=None, progress=None, num_workers=None):
     """The specular lemon and the no-slip Sinai torus (paper, Figure ``phaseportraits``).
 
     A :func:`portrait_set` dataset with dim ``table`` = ``["lemon", "sinai"]``:

@@ -12,13 +12,12 @@ import numpy as np
 import xarray as xr
 
 from .. import tables
+from .._metadata import annotate
 from .._validate import count
 from ..analysis import find_periodic_orbit, monodromy, wedge_orbit
 from ..analysis.section import state_from_reduced
-from .._metadata import annotate
 from ..simulate import simulate
 from .orbit_sets import orbit_set
-
 
 #: An impact reverses the path when ``|v_t - gamma w|`` is below this share of the speed there.
 REVERSAL_TOL = 1e-9
@@ -466,7 +465,8 @@ def wedge_launch_scan(phis, thetas, gamma=1 / math.sqrt(2), *, gravity=1.0, open
         turn = np.flatnonzero((kinds[i, :-1] == "elliptic") & (kinds[i, 1:] != "elliptic") & (kinds[i, 1:] != ""))
         if turn.size:
             a, b = thetas[turn[0]], thetas[turn[0] + 1]
-            transition[i] = _bisect(lambda th: _wedge_monodromy(phi, th, gamma, gravity, opening, ell).eigen_sum - 2.0,
+            transition[i] = _bisect(
+                lambda th, phi=phi: _wedge_monodromy(phi, th, gamma, gravity, opening, ell).eigen_sum - 2.0,
                                     a, b, xtol)
     ds = xr.Dataset(
         {"eigen_sum": (("phi", "theta"), es),

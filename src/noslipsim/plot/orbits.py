@@ -80,7 +80,7 @@ def orbit_nodes(orbit):
     ValueError
         When a variable is missing or the dataset holds more than one orbit.
     """
-    missing = [k for k in _LOG + ("t_final",) if k not in orbit.variables]
+    missing = [k for k in (*_LOG, "t_final") if k not in orbit.variables]
     if missing:
         raise ValueError(f"orbit: missing variables {missing} (expected a collision log, see docs/datasets.md)")
     for k in _LOG:
@@ -90,7 +90,7 @@ def orbit_nodes(orbit):
     log = {k: np.asarray(orbit[k].values, dtype=float) for k in _LOG}
     keep = np.isfinite(log["t"])
     start = _start(orbit)
-    nodes = {k: np.concatenate([[s], log[k][keep]]) for k, s in zip(_LOG, (0.0,) + start)}
+    nodes = {k: np.concatenate([[s], log[k][keep]]) for k, s in zip(_LOG, (0.0, *start))}
     nodes["t_end"] = _scalar(orbit, "t_final")
     nodes["force"] = scene_of(orbit).force
     return nodes

@@ -14,9 +14,9 @@ docs/datasets.md).
 from __future__ import annotations
 
 import numpy as np
+from matplotlib.patches import Circle as CirclePatch
 
 from .checks import require_points
-from matplotlib.patches import Circle as CirclePatch
 
 #: Points may lie this far outside the unit disk (rounding of the normalisation).
 UNIT_DISK_TOL = 1e-9

@@ -119,5 +119,7 @@ from .engine import MIN_DPS, RESUME_TOL, resume_reference, simulate_reference
 from .orbit import FINAL, RECORDED, ReferenceOrbit
 from .walk import PERIOD_MAX
 
-__all__ = ["simulate_reference", "resume_reference", "ReferenceOrbit",
-           "RECORDED", "FINAL", "MIN_DPS", "PERIOD_MAX", "RESUME_TOL"]
+__all__ = [
+    "FINAL", "MIN_DPS", "PERIOD_MAX", "RECORDED", "RESUME_TOL", "ReferenceOrbit", "resume_reference",
+    "simulate_reference",
+]

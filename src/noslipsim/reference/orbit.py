@@ -7,9 +7,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
+from .._metadata import annotate
 from .._version import __version__
 from ..core.layout import STOP_REASONS
-from .._metadata import annotate
 from ..scenes import Scene
 
 #: Variables recorded per collision (all mpf), in the order of :func:`noslipsim.simulate`.

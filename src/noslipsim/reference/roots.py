@@ -64,7 +64,7 @@ def _real_roots(ctx, coeffs):
 def _exit_roots(ctx, coeffs, deflate, floor):
     """Sorted roots ``t > 0`` where the polynomial changes from + to - (crossing out of the table)."""
     if deflate:  # p(t) = t h(t) with p(0) = 0 exactly: drop the root t = 0
-        coeffs = [ctx.zero] + list(coeffs[1:])
+        coeffs = [ctx.zero, *list(coeffs[1:])]
     searched = coeffs[1:] if deflate else coeffs
     signs = [c > 0 for c in searched if c != 0]
     if all(sg == signs[0] for sg in signs):  # Descartes: no sign change, no positive root
