@@ -16,8 +16,8 @@ import sys
 from noslipsim import tables
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from bench_collisions import kernel_rate  # noqa: E402
-from machine import machine_line  # noqa: E402
+from bench_collisions import kernel_rate
+from machine import machine_line
 
 DISK = 1 / math.sqrt(2)
 CASES = {  # name: (scene with the force, start, velocity)

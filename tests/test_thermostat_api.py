@@ -2,7 +2,8 @@
 
 * A scene file with ``thermostat: isokinetic`` runs from :meth:`Scene.from_yaml` and the command
   line, and gives the orbit :func:`simulate` gives for the scene built in Python.
-* :func:`simulate_many` (record ``log``) logs and ends every orbit as :func:`simulate` does, bit for bit, on a plain table and on a lattice, both laws; the
+* :func:`simulate_many` (record ``log``) logs and ends every orbit as :func:`simulate` does, bit
+  for bit, on a plain table and on a lattice, both laws; the
   total kinetic energy ``|v|^2 + w^2`` of every final state is the start's to rounding.
 * Zero speed is refused by name (it has no heading to keep); tools derived for free fall (the
   tangent maps, the energy-surface coordinates) refuse a thermostatted scene by name instead of
@@ -22,10 +23,10 @@ import pytest
 from kernel_call import record_buffer, run_kernel
 
 from noslipsim import Scene, simulate, simulate_many, tables
+from noslipsim._engine.table import kernel_table
 from noslipsim.analysis import lyapunov
 from noslipsim.analysis.islands import finite_time_lyapunov, interior_starts
 from noslipsim.analysis.section import energy_at
-from noslipsim._engine.table import kernel_table
 from noslipsim.cli import main
 from noslipsim.core import layout
 from noslipsim.core.variant import GENERAL

@@ -244,7 +244,7 @@ class _ThermoStrip(_Strip):
     walk asks of straight flights alone, where they are exact.
     """
 
-    __slots__ = ("path", "grad", "alpha0")
+    __slots__ = ("alpha0", "grad", "path")
 
     def __init__(self, ctx, coeffs, d, path, grad):
         self.path, self.grad, self.alpha0 = path, grad, coeffs[0]
