@@ -87,6 +87,11 @@ def check_starts(scene: Scene, positions, velocities, spins, start_elements=None
         still = (v == 0.0).all(axis=1)
         if still.any():
             raise ValueError(f"velocities: orbit {int(np.argmax(still))} has zero speed with zero force")
+    if scene.thermostat is not None:
+        still = (v == 0.0).all(axis=1)
+        if still.any():
+            raise ValueError(f"velocities: orbit {int(np.argmax(still))} has zero speed; the isokinetic "
+                             "thermostat keeps the speed, so it needs a nonzero one")
     inside = on < 0
     if inside.any():
         rel = q[inside] - (cell_origin(cell_of(q[inside], scene.lattice, "positions"), scene.lattice)

@@ -5,6 +5,7 @@ A scene is the public way to define a billiard (docs/scenes.md)::
     law: no-slip            # or specular
     gamma: 0.7071067811865476
     force: [0.0, -1.0]
+    thermostat: isokinetic   # optional: fly the force with the Gaussian isokinetic thermostat
     elements: [...]          # see noslipsim.elements
     lattice: {a1: [1, 0], a2: [0, 1]}   # optional: periodic repetition
 
@@ -33,13 +34,24 @@ from ._engine.lattice import cell_of, lattice_matrix
 from .elements import Arc, Circle, Line, Segment, element_from_dict
 
 LAWS = {"no-slip": layout.NOSLIP, "noslip": layout.NOSLIP, "specular": layout.SPECULAR}
-_SCENE_KEYS = {"law", "gamma", "force", "elements", "lattice"}
+_SCENE_KEYS = {"law", "gamma", "force", "thermostat", "elements", "lattice"}
+#: Thermostats a scene may fly its force with (``None``: none, free fall).
+THERMOSTATS = ("isokinetic",)
 
 
 def _law_name(law):
     if not isinstance(law, str) or law not in LAWS:
         raise ValueError(f"law: unknown collision law {law!r}; expected 'no-slip' or 'specular'")
     return "no-slip" if LAWS[law] == layout.NOSLIP else "specular"
+
+
+def _thermostat_name(thermostat):
+    """``None`` (no thermostat; also written ``'none'``) or ``'isokinetic'``; anything else is refused by name."""
+    if thermostat is None or thermostat == "none":
+        return None
+    if isinstance(thermostat, str) and thermostat in THERMOSTATS:
+        return thermostat
+    raise ValueError(f"thermostat: unknown thermostat {thermostat!r}; expected 'isokinetic' or none")
 
 
 #: Most element copies a periodic scene may need around one cell (counted from the
@@ -115,6 +127,12 @@ class Scene:
         >= 0): 0 point mass, ``1/sqrt(2)`` uniform disk, 1 ring.
     force : (float, float)
         Constant acceleration ``(a_x, a_y)`` acting between collisions.
+    thermostat : {None, 'isokinetic'}
+        ``None``: the force accelerates the particle (free fall, parabolic
+        flights).  ``'isokinetic'``: the Gaussian isokinetic thermostat,
+        ``dv/dt = F - alpha v`` with ``alpha = F.v/|v|^2``: the speed and the
+        spin are constant in flight and the heading turns towards the field
+        (the driven, thermostatted Lorentz gas; docs/scenes.md).
     lattice : dict or None
         ``{'a1': [..], 'a2': [..]}`` to repeat the elements periodically.
     """
@@ -124,9 +142,11 @@ class Scene:
     gamma: float = 1.0 / math.sqrt(2.0)
     force: tuple = (0.0, 0.0)
     lattice: dict | None = field(default=None)
+    thermostat: str | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "law", _law_name(self.law))
+        object.__setattr__(self, "thermostat", _thermostat_name(self.thermostat))
         object.__setattr__(self, "gamma", nonnegative(self.gamma, "gamma"))
         object.__setattr__(self, "force", tuple(float(f) for f in finite_vector(self.force, "force")))
         object.__setattr__(self, "elements", _element_tuple(self.elements))
@@ -159,6 +179,7 @@ class Scene:
             gamma=d.get("gamma", 1.0 / math.sqrt(2.0)),
             force=d.get("force", (0.0, 0.0)),
             lattice=d.get("lattice"),
+            thermostat=d.get("thermostat"),
         )
 
     @classmethod
@@ -189,8 +210,10 @@ class Scene:
 
     def to_dict(self) -> dict[str, Any]:
         """The scene as its scene-file mapping (the inverse of :meth:`from_dict`)."""
-        d = {"law": self.law, "gamma": self.gamma, "force": list(self.force),
-             "elements": [e.to_dict() for e in self.elements]}
+        d = {"law": self.law, "gamma": self.gamma, "force": list(self.force)}
+        if self.thermostat is not None:
+            d["thermostat"] = self.thermostat
+        d["elements"] = [e.to_dict() for e in self.elements]
         if self.lattice is not None:
             d["lattice"] = self.lattice
         return d
@@ -208,9 +231,9 @@ class Scene:
         return json.dumps(self.to_dict(), sort_keys=True)
 
     def replace(self, **changes: Any) -> Scene:
-        """A copy with some of ``elements, law, gamma, force, lattice`` changed."""
+        """A copy with some of ``elements, law, gamma, force, lattice, thermostat`` changed."""
         d = dict(elements=self.elements, law=self.law, gamma=self.gamma, force=self.force,
-                 lattice=self.lattice)
+                 lattice=self.lattice, thermostat=self.thermostat)
         d.update(changes)
         return Scene(**d)
 
@@ -219,6 +242,27 @@ class Scene:
     def law_code(self) -> int:
         """The law as the kernels take it (``layout.SPECULAR`` or ``layout.NOSLIP``)."""
         return LAWS[self.law]
+
+    def flight_states(self, x: ArrayLike, y: ArrayLike, vx: ArrayLike, vy: ArrayLike,
+                      tau: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Position and velocity ``(x, y, vx, vy)`` after flights of duration ``tau >= 0`` (arrays, broadcast).
+
+        Free fall ``q + v tau + a tau^2/2`` (a straight line without force), or
+        the closed-form path of the isokinetic thermostat
+        (:mod:`noslipsim.core.thermostat`).  For drawing and checking orbits;
+        the event loop evaluates the same forms.
+        """
+        x, y, vx, vy, tau = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (x, y, vx, vy, tau)))
+        ax, ay = self.force
+        if self.thermostat is None or (ax, ay) == (0.0, 0.0):
+            return (x + vx * tau + 0.5 * ax * tau ** 2, y + vy * tau + 0.5 * ay * tau ** 2,
+                    vx + ax * tau, vy + ay * tau)
+        from .core.thermostat import advance_many
+
+        flat = [np.ascontiguousarray(a.ravel()) for a in (x, y, vx, vy, tau)]
+        out = np.empty((flat[0].size, 4))
+        advance_many(*flat[:4], ax, ay, flat[4], out)
+        return tuple(out[:, k].reshape(x.shape) for k in range(4))
 
     @property
     def noslip_coefficients(self) -> tuple[float, float]:

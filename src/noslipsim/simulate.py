@@ -50,6 +50,8 @@ def check_start(scene: Scene, position, velocity, spin):
                          "a start must lie strictly inside")
     if v[0] == 0.0 and v[1] == 0.0 and scene.force == (0.0, 0.0):
         raise ValueError("velocity: zero speed with zero force never moves")
+    if v[0] == 0.0 and v[1] == 0.0 and scene.thermostat is not None:
+        raise ValueError("velocity: the isokinetic thermostat keeps the speed, so it needs a nonzero one")
     return q, v, w
 
 
@@ -162,7 +164,7 @@ def _orbit_dataset(scene, log, stop, n_corner, final, cell, start):
     data = {name: (dim, log[:, col].copy()) for name, col in _COLUMNS.items()}
     data["element"] = (dim, log[:, layout.LOG_ELEMENT].astype(np.int32))
     data["corner"] = (dim, log[:, layout.LOG_CORNER].astype(np.int8))
-    ax, ay = scene.force
+    ax, ay = scene.force if scene.thermostat is None else (0.0, 0.0)  # the thermostat keeps the kinetic energy
     data["energy"] = (dim, 0.5 * (log[:, layout.LOG_VX] ** 2 + log[:, layout.LOG_VY] ** 2
                                   + log[:, layout.LOG_W] ** 2)
                       - (ax * log[:, layout.LOG_X] + ay * log[:, layout.LOG_Y]))

@@ -74,8 +74,8 @@ def run_orbits(table, starts, *, max_collisions, max_time=math.inf, levels=None,
     mask = np.zeros(len(table.kinds), dtype=np.bool_) if mask is None else mask
     flags = table.variant(mode) if flags is None else tuple(flags)
     final = np.zeros((n, N_FINAL))
-    _kernel(flags)(*table.arrays(), table.law, table.c, table.s, table.ax, table.ay, starts, start_elements,
-                        max_collisions, max_time, levels, table.scale, mode, rec, mask, final)
+    _kernel(flags)(*table.arrays(), table.law, table.c, table.s, table.ax, table.ay, table.thermostat, starts,
+                   start_elements, max_collisions, max_time, levels, table.scale, mode, rec, mask, final)
     check_variant(final[:, F_VARIANT], flags)
     return final
 

@@ -55,6 +55,9 @@ class KernelTable:
         What the scene needs compiled in: cubic and quartic exits, the spin
         update, the lean disk loop (:mod:`noslipsim.core.disks`), the long-wall
         check (:func:`noslipsim.core.events.exact_line_hit`).
+    thermostat : bool
+        The force is flown with the Gaussian isokinetic thermostat
+        (:mod:`noslipsim.core.thermostat`); false without a force.
     """
 
     kinds: np.ndarray
@@ -75,17 +78,20 @@ class KernelTable:
     noslip: bool
     disk_lattice: bool
     long_walls: bool
+    thermostat: bool = False
 
     def variant(self, mode):
         """The compile-time flags of the event loop for this table and record mode.
 
-        ``(force, spin, lattice, mode, disks, walls)``, each an exact bool (the
-        record mode an int): a scene without force never pays for cubic or
-        quartic exits, a specular one for spin updates, a plain one for the cell
-        walk, ``RECORD_NONE`` for the recorder, a table without long walls for
-        their exact check (:func:`noslipsim.core.loop.orbit_kernel`).
+        ``(force, spin, lattice, mode, disks, walls, thermostat)``, each an exact
+        bool (the record mode an int): a scene without force never pays for cubic
+        or quartic exits, a specular one for spin updates, a plain one for the
+        cell walk, ``RECORD_NONE`` for the recorder, a table without long walls
+        for their exact check, a scene without the thermostat for thermostatted
+        flights (:func:`noslipsim.core.loop.orbit_kernel`).
         """
-        return self.has_force, self.noslip, self.lattice, int(mode), self.disk_lattice, self.long_walls
+        return (self.has_force, self.noslip, self.lattice, int(mode), self.disk_lattice, self.long_walls,
+                self.thermostat)
 
     @property
     def one_disk_per_cell(self):
@@ -131,12 +137,14 @@ def kernel_table(scene) -> KernelTable:
     jstart, jpts = junction_arrays(elements, placed, scale)
     c, s = scene.noslip_coefficients
     ax, ay = scene.force
+    has_force = scene.force != (0.0, 0.0)
     return KernelTable(
         kinds=kinds, params=params, copies=copies, A=A, B=B, lattice=scene.lattice is not None,
         jstart=jstart, jpts=jpts, law=scene.law_code,
-        c=c, s=s, ax=ax, ay=ay, scale=scale, has_force=scene.force != (0.0, 0.0),
+        c=c, s=s, ax=ax, ay=ay, scale=scale, has_force=has_force,
         noslip=scene.law_code == layout.NOSLIP, disk_lattice=_disk_lattice(scene),
-        long_walls=any(flag != 0.0 for flag in params[:, layout.LONG_WALL]))
+        long_walls=any(flag != 0.0 for flag in params[:, layout.LONG_WALL]),
+        thermostat=has_force and scene.thermostat is not None)
 
 
 def _element_arrays(elements, placed, scale):

@@ -64,6 +64,7 @@ from ..initial import rng_from
 from .._metadata import annotate
 from ..scenes import Scene
 from .lyapunov import lyapunov_run
+from .section import require_free_fall
 from .portraits import birkhoff_states, reduced_states
 
 __all__ = ["REGULAR_THRESHOLD", "VISIBLE_SHARE", "uniform_reduced_states", "interior_starts",
@@ -164,7 +165,10 @@ def interior_starts(scene: Scene, states):
 
     .. math::
 
-        q = q_0 + v_0 \tau/2 + a \tau^2/8, \qquad v = v_0 + a \tau/2, \qquad w = w_0 .
+        q = q_0 + v_0 \tau/2 + a \tau^2/8, \qquad v = v_0 + a \tau/2, \qquad w = w_0
+
+    (free fall; :meth:`Scene.flight_states`, the closed-form path under the
+    isokinetic thermostat).
 
     Parameters
     ----------
@@ -197,10 +201,9 @@ def interior_starts(scene: Scene, states):
         i = int(np.flatnonzero(bad)[0])
         raise ValueError(f"states: start {i} has no usable first flight (time {tau[i]:.3g}, "
                          f"{int(ds.n_collisions.values[i])} collisions): it escapes or grazes the boundary")
-    a = np.asarray(scene.force, dtype=float)
-    half = 0.5 * tau[:, None]
-    return {"positions": q0 + v0 * half + 0.5 * a * half**2, "velocities": v0 + a * half, "spins": w0.copy(),
-            "first_flight": tau}
+    x, y, vx, vy = scene.flight_states(q0[:, 0], q0[:, 1], v0[:, 0], v0[:, 1], 0.5 * tau)  # any flight type
+    return {"positions": np.stack([x, y], axis=-1), "velocities": np.stack([vx, vy], axis=-1),
+            "spins": w0.copy(), "first_flight": tau}
 
 
 # ----------------------------------------------------------------------------- exponents
@@ -242,6 +245,7 @@ def finite_time_lyapunov(scene: Scene, positions, velocities, spins=None, *, n_c
         or escapes before ``N`` collisions.
     """
     scene = _scene(scene)
+    require_free_fall(scene, "finite_time_lyapunov")  # before the per-orbit NaN for corners
     q = np.asarray(positions, dtype=float)
     v = np.asarray(velocities, dtype=float)
     w = np.zeros(len(q)) if spins is None else np.asarray(spins, dtype=float)

@@ -34,6 +34,18 @@ from ..core.batch import F_NREC, F_STOP
 from ..scenes import Scene
 from ..simulate import check_limits, check_start, run_one, start_cell
 
+def require_free_fall(scene: Scene, what):
+    """Refuse a thermostatted scene by name: ``what`` assumes parabolic flights and the energy ``|v|^2/2 - a . q``.
+
+    The isokinetic thermostat (``Scene.thermostat``) bends flights along
+    another path and keeps the kinetic energy instead; the tangent maps and
+    the energy-surface coordinates here are derived for free fall only.
+    """
+    if scene.thermostat is not None and scene.force != (0.0, 0.0):
+        raise ValueError(f"scene: {what} is derived for free fall under the force; it does not support "
+                         f"thermostat {scene.thermostat!r}")
+
+
 def boundary_frames(scene: Scene, element, s):
     """Geometry at boundary points given by element index and arclength, vectorised.
 
@@ -153,6 +165,7 @@ def reduced_from_log(scene: Scene, log):
 
 def energy_at(scene: Scene, point, velocity, spin):
     """``E = (|v|^2 + w^2)/2 - a . q`` with ``q`` in the element's own (cell-0) coordinates."""
+    require_free_fall(scene, "energy_at")
     ax, ay = scene.force
     return 0.5 * (velocity[0] ** 2 + velocity[1] ** 2 + spin ** 2) - (ax * point[0] + ay * point[1])
 
@@ -163,6 +176,7 @@ def state_from_reduced(scene: Scene, element, s, w, vt, energy):
     Returns ``None`` where ``(w, v_t)`` leave no kinetic energy for ``v_n``
     (outside the energy surface).
     """
+    require_free_fall(scene, "state_from_reduced")
     point, t, n, _, _ = boundary_frames(scene, np.array([element]), np.array([float(s)]))
     q = point[0]
     ax, ay = scene.force

@@ -29,7 +29,7 @@ import numpy as np
 
 from ..core import layout
 from ..scenes import Scene
-from .section import boundary_frames
+from .section import boundary_frames, require_free_fall
 
 
 class CornerError(ValueError):
@@ -130,6 +130,7 @@ def _chunks(log):
 
 def step_entries(scene: Scene, log):
     """All step Jacobians of a log, entry-major ``(3, 3, N - 1)`` (see :func:`_chunk_entries`)."""
+    require_free_fall(scene, "the tangent map")
     log = np.asarray(log, dtype=float)
     E = np.empty((3, 3, max(len(log) - 1, 0)))
     for a, b in _chunks(log):
@@ -144,6 +145,7 @@ def step_jacobians(scene: Scene, log):
 
 def log_product(scene: Scene, log):
     """``J_{N-2} ... J_0``: the Jacobian from the first to the last logged collision (chunk by chunk)."""
+    require_free_fall(scene, "the tangent map")
     log = np.asarray(log, dtype=float)
     M = np.eye(3)
     for a, b in _chunks(log):
@@ -156,6 +158,7 @@ def log_block_products(scene: Scene, log, block):
 
     A tail shorter than ``block`` is dropped.
     """
+    require_free_fall(scene, "the tangent map")
     log = np.asarray(log, dtype=float)
     per = max(1, CHUNK // block) * block
     n = (len(log) - 1) // block * block

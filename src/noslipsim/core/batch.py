@@ -34,11 +34,11 @@ def batch_kernel(flags=GENERAL):
     orbit = orbit_kernel(*flags)
 
     @jit
-    def run_batch(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, starts, start_elements,
-                  max_collisions, max_time, stop_below, scale, mode, rec, mask, final):
+    def run_batch(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, thermostat, starts,
+                  start_elements, max_collisions, max_time, stop_below, scale, mode, rec, mask, final):
         for i in range(starts.shape[0]):
             n, stop, n_corner, n_rec, t, x, y, vx, vy, w, m1, m2, variant = orbit(
-                kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay,
+                kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, thermostat,
                 starts[i, 0], starts[i, 1], starts[i, 2], starts[i, 3], starts[i, 4],
                 max_collisions, max_time, stop_below[i], scale, mode, rec[i], mask, start_elements[i])
             row = final[i]

@@ -350,8 +350,8 @@ def disk_lattice_kernel(spin=None, mode=None):
     several = _disk_loop(spin, mode, False)
 
     @jit
-    def run_disk_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, x, y, vx, vy, w,
-                       max_collisions, max_time, stop_below, scale, mode, rec, mask, start_element=-1):
+    def run_disk_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, thermostat, x, y, vx, vy,
+                       w, max_collisions, max_time, stop_below, scale, mode, rec, mask, start_element=-1):
         """:func:`loop.run_orbit` for disks on a lattice without force (same arguments and outputs)."""
         # every disk inside its cell (no copy shifted): a hit point lies in the cell where it is found
         inside = True
@@ -376,7 +376,7 @@ def _disk_loop(spin, mode, one):
     MODE_RT = mode is None
     MODE = RECORD_LOG if mode is None else int(mode)
     ONE = bool(one)
-    VARIANT = variant_code((False, spin, True, mode, True, False))  # reported with every result
+    VARIANT = variant_code((False, spin, True, mode, True, False, False))  # reported with every result
 
     @jit
     def disk_loop(params, copies, A, B, law, c, s, x, y, vx, vy, w, max_collisions, max_time, stop_below, mode,

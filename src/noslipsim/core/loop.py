@@ -35,6 +35,12 @@ from .layout import (
 )
 from .records import record
 from .roots import quadratic_exit
+from .thermo_events import exact_line_hit as thermo_exact_line_hit
+from .thermo_events import hit_in_cell as thermo_hit_in_cell
+from .thermo_events import line_exit as thermo_line_exit
+from .thermo_events import walk_hit as thermo_walk_hit
+from .thermostat import drag, field, flight
+from .thermostat import state as thermo_state
 from .tolerances import CONTACT_TOL, EXTENT_TOL, JUNCTION_GATE, MAX_CELLS_PER_FLIGHT, MAX_CORNER_BOUNCES
 from .variant import variant_code
 
@@ -65,13 +71,13 @@ def _contact(kinds, params, copies, A, lattice, x, y, vx, vy, ax, ay, cur_e, cur
     return -1, 0, 0
 
 
-def kernel_flags(has_force, noslip, lattice, mode, disks=False, walls=False):
+def kernel_flags(has_force, noslip, lattice, mode, disks=False, walls=False, thermostat=False):
     """The variant key for a scene: what its kernel needs, fixed at compile time."""
-    return bool(has_force), bool(noslip), bool(lattice), int(mode), bool(disks), bool(walls)
+    return bool(has_force), bool(noslip), bool(lattice), int(mode), bool(disks), bool(walls), bool(thermostat)
 
 
 @functools.lru_cache(maxsize=None)
-def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, walls=None):
+def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, walls=None, thermostat=None):
     """The event loop compiled for one kind of scene: a scene pays only for what it needs.
 
     Each flag is a compile-time constant (``True``/``False``, or a record
@@ -95,10 +101,16 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
     ``True`` or ``None`` test each line or segment hit for the flag.  The
     check's code alone, never run, cost such scenes 2 to 20 % (the Galton
     board the most; ``benchmarks/RESULTS.md``).
+
+    ``thermostat=True`` flies the force with the Gaussian isokinetic
+    thermostat (:mod:`thermostat`, :mod:`thermo_events`); ``False`` (or
+    ``force=False``) compiles no code of it: each of its branches opens with
+    the compile-time constant ``THERMO_ANY``, which numba prunes before typing
+    (and ``thermostat=True`` with ``force=True`` prunes the free fall likewise).
     """
     if disks:
         return disk_lattice_kernel(spin, mode)
-    VARIANT = variant_code((force, spin, lattice, mode, disks, walls))  # reported with every result
+    VARIANT = variant_code((force, spin, lattice, mode, disks, walls, thermostat))  # reported with every result
     FORCE_RT = force is None
     FORCE = bool(force)
     SPIN_RT = spin is None
@@ -108,9 +120,13 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
     MODE_RT = mode is None
     MODE = RECORD_LOG if mode is None else int(mode)
     WALLS = walls is None or bool(walls)  # a compile-time constant: False drops the long-wall check
+    # thermostatted flights: compiled in only where they may run (never without a force)
+    THERMO_ANY = force is not False and thermostat is not False
+    THERMO_ALWAYS = force is True and thermostat is True  # no free fall compiled at all
+    THERMO_RT = thermostat is None
 
     @jit
-    def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, x, y, vx, vy, w,
+    def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, thermostat, x, y, vx, vy, w,
                   max_collisions, max_time, stop_below, scale, mode, rec, mask, start_element=-1):
         """Run one orbit from a state strictly inside the table.
 
@@ -133,6 +149,9 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
             ``SPECULAR`` or ``NOSLIP``; ``c, s`` are the no-slip coefficients.
         ax, ay : float
             Constant acceleration (force per unit mass).
+        thermostat : bool
+            Fly the force with the Gaussian isokinetic thermostat (speed kept in
+            flight; :mod:`noslipsim.core.thermostat`) instead of free fall.
         x, y, vx, vy, w : float
             Initial position (in cell 0), velocity and scaled spin ``w = gamma R omega``.
         max_collisions : int
@@ -165,9 +184,18 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
         law = law if SPIN_RT else (NOSLIP if SPIN else SPECULAR)
         lattice = lattice if LATTICE_RT else LATTICE
         mode = mode if MODE_RT else MODE
+        # thermostatted flights keep |v| and w, collisions |v|^2 + w^2: no potential energy to keep
+        thermo = False
+        potential = has_force
+        E = 0.0
+        if THERMO_ANY:
+            thermo = has_force and (thermostat if THERMO_RT else True)
+            if thermo:
+                potential = False
+                E = field(ax, ay)[0]
         # the energy to keep (energy.settle), twice the start's (gamma = 0 keeps the spin's apart, as specular)
         mixes = law == NOSLIP and s != 0.0  # the spin takes part in the energy exchange
-        e0 = state_energy(vx, vy, w, mixes, ax, ay, x, y, has_force)[0]
+        e0 = state_energy(vx, vy, w, mixes, ax, ay, x, y, potential)[0]
         t = 0.0
         cur_e = start_element
         cur_o1 = 0
@@ -190,9 +218,23 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 extent_tol = EXTENT_TOL * length
                 remaining = max_time - t
                 t_level = INF
-                if stop_below > -INF:
+                if THERMO_ALWAYS or (THERMO_ANY and thermo):
+                    fl = flight(x, y, vx, vy, ax, ay)
+                    if stop_below > -INF:
+                        t_level = thermo_line_exit(fl, y + oy - stop_below, 0.0, 1.0, 0.0, INF, False)
+                elif stop_below > -INF:
                     t_level = quadratic_exit(y + oy - stop_below, vy, 0.5 * ay, INF)
-                if lattice:
+                if THERMO_ALWAYS or (THERMO_ANY and thermo):
+                    if lattice:
+                        limit = min(remaining, t_level)
+                        t_hit, e, o1, o2, status = thermo_walk_hit(kinds, params, copies, A, B, fl, E, cur_e, cur_o1,
+                                                                   cur_o2, limit, extent_tol, MAX_CELLS_PER_FLIGHT)
+                        escape = status == 2 or (status == 1 and limit == INF)
+                    else:
+                        t_hit, e, o1, o2 = thermo_hit_in_cell(kinds, params, copies, A, 0, 0, fl, E, cur_e, cur_o1,
+                                                              cur_o2, INF, extent_tol, 0.0, False)
+                        escape = e < 0
+                elif lattice:
                     limit = min(remaining, t_level)
                     t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay,
                                                         has_force, cur_e, cur_o1, cur_o2, limit, extent_tol,
@@ -203,7 +245,10 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                                                    has_force, cur_e, cur_o1, cur_o2, INF, extent_tol, 0.0, False)
                     escape = e < 0  # no element ahead: the orbit leaves for good
                 if t_level < INF and t_level <= t_hit and t_level <= remaining:
-                    x, y, vx, vy = advance(x, y, vx, vy, ax, ay, t_level, has_force)
+                    if THERMO_ALWAYS or (THERMO_ANY and thermo):
+                        x, y, vx, vy = thermo_state(fl, t_level)
+                    else:
+                        x, y, vx, vy = advance(x, y, vx, vy, ax, ay, t_level, has_force)
                     y = stop_below - oy
                     t += t_level
                     stop = STOP_LEVEL
@@ -212,12 +257,18 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                     stop = STOP_ESCAPE
                     break
                 if e < 0 or t_hit > remaining:
-                    x, y, vx, vy = advance(x, y, vx, vy, ax, ay, remaining, has_force)
+                    if THERMO_ALWAYS or (THERMO_ANY and thermo):
+                        x, y, vx, vy = thermo_state(fl, remaining)
+                    else:
+                        x, y, vx, vy = advance(x, y, vx, vy, ax, ay, remaining, has_force)
                     t = max_time
                     stop = STOP_MAX_TIME
                     break
                 # relocate onto the element copy, then resolve the collision
-                hx, hy, vx_in, vy_in = advance(x, y, vx, vy, ax, ay, t_hit, has_force)
+                if THERMO_ALWAYS or (THERMO_ANY and thermo):
+                    hx, hy, vx_in, vy_in = thermo_state(fl, t_hit)
+                else:
+                    hx, hy, vx_in, vy_in = advance(x, y, vx, vy, ax, ay, t_hit, has_force)
                 kind = kinds[e]
                 p = params[e]
                 sx, sy = copy_shift(A, o1, o2, lattice)
@@ -227,7 +278,12 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 if far:  # eps x flight length
                     rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
                 px, py, nx, ny = place_on_element(kind, p, rx, ry)
-                if WALLS and p[LONG_WALL] != 0.0 and not far:  # a long line or segment: eps x distance along it
+                if THERMO_ALWAYS or (THERMO_ANY and thermo):
+                    if WALLS and p[LONG_WALL] != 0.0:
+                        t_hit, px, py, vx_in, vy_in = thermo_exact_line_hit(
+                            kind, p, fl, sx, sy, e == cur_e and o1 == cur_o1 and o2 == cur_o2, t_hit, rx, ry, px, py,
+                            vx_in, vy_in)
+                elif WALLS and p[LONG_WALL] != 0.0 and not far:  # a long line or segment: eps x distance along it
                     t_hit, px, py, vx_in, vy_in = exact_line_hit(
                         kind, p, x - sx, y - sy, vx, vy, ax, ay, has_force, e == cur_e and o1 == cur_o1 and o2 == cur_o2,
                         t_hit, rx, ry, px, py, vx_in, vy_in)
@@ -255,11 +311,16 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 cur_e = e
                 cur_o1 = o1
                 cur_o2 = o2
-                # corner rule: other element copies touched here that the particle would leave through
+                # corner rule: other element copies touched here that the particle would leave through;
+                # a thermostatted flight leaves a contact with its acceleration there, F - alpha v
+                aex = ax
+                aey = ay
                 bounces = 0
                 near = _near_junction(jstart, jpts, e, x - sx, y - sy, JUNCTION_GATE * length)
                 while near and n < max_collisions:
-                    j, o1, o2 = _contact(kinds, params, copies, A, lattice, x, y, vx, vy, ax, ay,
+                    if THERMO_ALWAYS or (THERMO_ANY and thermo):
+                        aex, aey = drag(vx, vy, ax, ay)
+                    j, o1, o2 = _contact(kinds, params, copies, A, lattice, x, y, vx, vy, aex, aey,
                                          cur_e, cur_o1, cur_o2, CONTACT_TOL * length)
                     if j < 0:
                         break
@@ -286,12 +347,14 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 if stop == STOP_CORNER:
                     break
                 sx, sy = copy_shift(A, cur_o1, cur_o2, lattice)
-                if slides_off(kinds[cur_e], params[cur_e], x - sx, y - sy, vx, vy, ax, ay):
+                if THERMO_ALWAYS or (THERMO_ANY and thermo):
+                    aex, aey = drag(vx, vy, ax, ay)
+                if slides_off(kinds[cur_e], params[cur_e], x - sx, y - sy, vx, vy, aex, aey):
                     stop = STOP_GRAZING
                     break
             if stop != STOP_MAX_COLLISIONS or n >= max_collisions:  # stopped inside the block, or done
                 break
-            vx, vy, w = settle(vx, vy, w, mixes, ax, ay, x + ox, y + oy, has_force, e0)
+            vx, vy, w = settle(vx, vy, w, mixes, ax, ay, x + ox, y + oy, potential, e0)
             block_end = min(max_collisions, n + SETTLE_EVERY)
         if lattice:  # the final state may lie in another cell (a stop in mid-flight)
             k1, k2 = nearest_cell(B, x, y)

@@ -16,8 +16,10 @@ from .._validate import finite_float, finite_vector
 from ..core.tolerances import MAX_CORNER_BOUNCES
 from ..scenes import Scene
 from ..simulate import check_limits, check_start
+from .elements import _StraightMp
 from .orbit import ReferenceOrbit
 from .roots import _exit_roots, _flight
+from .thermostat import ThermoPath, accel, first_exit, horizon, line_first_exit
 from .walk import _Table, _walk_cells
 
 #: Smallest working precision accepted: the tolerances are ``10^(-dps/2)``.
@@ -204,6 +206,8 @@ class _EventLoop:
         self.rel_tol = f(10) ** (-(dps // 2))
         self.slope_floor = f(10) ** (-((2 * dps) // 5))
         self.ax, self.ay = f(scene.force[0]), f(scene.force[1])
+        # the Gaussian isokinetic thermostat: the force steers, the speed stays (module thermostat)
+        self.thermo = scene.thermostat is not None and scene.force != (0.0, 0.0)
         self.noslip = scene.law == "no-slip"
         g = f(scene.gamma)
         self.c_law, self.s_law = (1 - g * g) / (1 + g * g), 2 * g / (1 + g * g)
@@ -284,7 +288,7 @@ class _EventLoop:
         rate = copy.rate(x, y, self.vx, self.vy)
         if rate > 0:
             return False
-        if rate == 0 and copy.crossing(x, y, self.vx, self.vy, self.ax, self.ay)[2] >= 0:
+        if rate == 0 and copy.crossing(*self.flight())[2] >= 0:
             return False
         return True
 
@@ -339,6 +343,9 @@ class _EventLoop:
         """Stop rule: when the flight crosses ``stop_below`` downwards (exit root of ``y(t) - level``), or None."""
         if self.level is None:
             return None
+        if self.thermo:
+            return line_first_exit(self.ctx, self.path(), self.ctx.zero, self.ctx.one, self.y - self.level,
+                                   self.ctx.zero)
         roots = _exit_roots(self.ctx, [self.y - self.level, self.vy, self.ay / 2], False, self.slope_floor)
         return roots[0] if roots else None
 
@@ -354,10 +361,12 @@ class _EventLoop:
         if not self.table.periodic:
             earliest.offer(self.table.copies_at(0, 0))
             return earliest.t, earliest.copy, earliest.copy is None
-        return _walk_cells(self.table, self.flight(), earliest, t_limit, tol)
+        return _walk_cells(self.table, self.flight(), earliest, t_limit, tol, self.path() if self.thermo else None)
 
     def first_hit(self, copy, tol):
         """Steps 1-3 for one copy: the first exit root of the whole flight within its extent, or None."""
+        if self.thermo:
+            return self.thermo_first_hit(copy, tol)
         x, y, vx, vy, ax, ay = self.flight()
         coeffs = copy.crossing(x, y, vx, vy, ax, ay)
         deflate = copy is self.current  # the root t = 0 of the copy just hit is exact: divided out
@@ -367,8 +376,51 @@ class _EventLoop:
                 return root
         return None
 
+    def thermo_first_hit(self, copy, tol):
+        """:meth:`first_hit` for a thermostatted flight: the certified search of :mod:`.thermostat`."""
+        ctx = self.ctx
+        path = self.path()
+        deflate = copy is self.current
+        extent = lambda t: copy.extent(*path.position(t), tol) < 0  # noqa: E731  (True: reject the root)
+        el = copy.el
+        if isinstance(el, _StraightMp):
+            f0 = ctx.zero if deflate else copy.distance(self.x, self.y)
+            reach = None
+            if el.u is not None:  # a segment: bounded along the field
+                ends = [(el.px + copy.sx, el.py + copy.sy),
+                        (el.px + copy.sx + el.length * el.u[0], el.py + copy.sy + el.length * el.u[1])]
+                reach = max(px * path.fx + py * path.fy for px, py in ends) + tol
+            return line_first_exit(ctx, path, el.nx, el.ny, f0, ctx.zero, skip=extent, bounded=reach)
+        cx, cy, sg, r = el.cx + copy.sx, el.cy + copy.sy, el.sigma, el.r
+
+        def g(t):
+            if deflate and t == 0:
+                return ctx.zero
+            px, py = path.position(t)
+            return sg * ((px - cx) ** 2 + (py - cy) ** 2 - r * r)
+
+        def dg(t):
+            px, py = path.position(t)
+            vx, vy = path.velocity(t)
+            return 2 * sg * ((px - cx) * vx + (py - cy) * vy)
+
+        def bound(a, b):  # |G''| = 2 |c^2 + d . dv/dt| with |d| <= |d(a)| + c (b - a) and |dv/dt| <= E
+            px, py = path.position(a)
+            return 2 * (path.c ** 2 + (ctx.hypot(px - cx, py - cy) + path.c * (b - a)) * path.E)
+
+        beyond = cx * path.fx + cy * path.fy + r + tol
+        T = horizon(ctx, path, lambda T: path.along_field(T) and path.field_coordinate(T) > beyond)
+        return first_exit(ctx, g, dg, bound, ctx.zero, T, skip=extent if el.theta0 is not None else None)
+
     def relocate(self, copy, dt):
         """Step 5 (relocate): fly for ``dt`` and place the particle on ``copy``; the incoming velocity."""
+        if self.thermo:
+            path = self.path()
+            hx, hy = path.position(dt)
+            vx_in, vy_in = path.velocity(dt)
+            self.x, self.y = copy.place(hx, hy)
+            self.t += dt
+            return vx_in, vy_in
         hx, hy = _flight(*self.flight(), dt)
         vx_in, vy_in = self.vx + self.ax * dt, self.vy + self.ay * dt
         self.x, self.y = copy.place(hx, hy)
@@ -394,13 +446,28 @@ class _EventLoop:
 
     def advance(self, dt):
         """Stop rules: the free flight for ``dt`` with no collision (to the level or the time limit)."""
+        if self.thermo:
+            path = self.path()
+            self.x, self.y = path.position(dt)
+            self.vx, self.vy = path.velocity(dt)
+            return
         self.x, self.y = _flight(*self.flight(), dt)
         self.vx, self.vy = self.vx + self.ax * dt, self.vy + self.ay * dt
 
     # -------------------------------------------------------------------- helpers
     def flight(self):
-        """``(x, y, vx, vy, ax, ay)``: the flight from the current state."""
+        """``(x, y, vx, vy, ax, ay)``: the flight from the current state.
+
+        Thermostatted: the acceleration now, ``F - alpha v`` (the local
+        expansion the corner and grazing rules read; the path is :meth:`path`).
+        """
+        if self.thermo:
+            return (self.x, self.y, self.vx, self.vy, *accel(self.ax, self.ay, self.vx, self.vy))
         return self.x, self.y, self.vx, self.vy, self.ax, self.ay
+
+    def path(self):
+        """The thermostatted path from the current state."""
+        return ThermoPath(self.ctx, self.x, self.y, self.vx, self.vy, self.ax, self.ay)
 
     def tol(self):
         """The length tolerance at the particle: ``10^(-floor(dps/2)) * max(scale, |x|, |y|)``."""
@@ -414,7 +481,8 @@ class _EventLoop:
                           (self.t, x, y, vx, vy, w, vx_in, vy_in, w_in)):
             rec[k].append(val)
         rec["s"].append(copy.arclength(x, y))
-        rec["energy"].append((vx * vx + vy * vy + w * w) / 2 - (self.ax * x + self.ay * y))
+        potential = 0 if self.thermo else self.ax * x + self.ay * y  # the thermostat keeps the kinetic energy
+        rec["energy"].append((vx * vx + vy * vy + w * w) / 2 - potential)
         orbit.element.append(copy.index)
         orbit.corner.append(corner)
         orbit.cells.append(self.table.cell(x, y))

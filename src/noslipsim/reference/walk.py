@@ -19,6 +19,7 @@ from .._engine.lattice import reaching_copies
 from ..core.tolerances import MAX_CELLS_PER_FLIGHT
 from .elements import _Copy, _mp_elements
 from .roots import _flight
+from .thermostat import line_first_exit
 
 #: Largest ``|p|, |q|`` of a lattice vector ``P = p a1 + q a2`` along which a straight
 #: flight is recognised as periodic (a period then walks about ``|p| + |q|`` cells).
@@ -234,13 +235,60 @@ class _Period:
         return self.ctx.hypot(xo - self.x_turn, yo - self.y_turn) > self.length + tol
 
 
-def _strips(table, flight):
+class _ThermoStrip(_Strip):
+    """A lattice coordinate along a thermostatted path: a line functional ``alpha0 + grad . (q(t) - q(0))``.
+
+    Its exits are found by the certified search of :mod:`.thermostat`; on or
+    past a face at ``t_in`` and moving out, it leaves at once.  The polynomial
+    ``coeffs`` (the local expansion) serve only :meth:`faces_crossed`, which the
+    walk asks of straight flights alone, where they are exact.
+    """
+
+    __slots__ = ("alpha0", "grad", "path")
+
+    def __init__(self, ctx, coeffs, d, path, grad):
+        self.path, self.grad, self.alpha0 = path, grad, coeffs[0]
+        self.ctx, self.coeffs, self.d = ctx, coeffs, d
+        self.exit, self.step = self._exit(ctx.zero)
+
+    def _face(self, f0, sign, t_in):
+        ctx, path = self.ctx, self.path
+        nx, ny = sign * self.grad[0], sign * self.grad[1]
+        px, py = path.position(t_in)
+        vx, vy = path.velocity(t_in)
+        ft = f0 + nx * (px - path.x) + ny * (py - path.y)
+        if ft <= 0 and nx * vx + ny * vy < 0:
+            return t_in
+        t = line_first_exit(ctx, path, nx, ny, f0, t_in)
+        return ctx.inf if t is None else t
+
+    def _exit(self, t_in):
+        half = self.ctx.mpf(0.5)
+        t_up = self._face(self.d + half - self.alpha0, -1, t_in)
+        t_dn = self._face(self.alpha0 - (self.d - half), 1, t_in)
+        if t_up <= t_dn and t_up < self.ctx.inf:
+            return t_up, 1
+        if t_dn < self.ctx.inf:
+            return t_dn, -1
+        return self.ctx.inf, 0
+
+    def cross(self, t_out):
+        if self.exit == t_out:
+            self.d += self.step
+            self.exit, self.step = self._exit(t_out)
+
+
+def _strips(table, flight, path=None):
     """The flight's lattice coordinates ``alpha(t), beta(t)``, each in the strip of the start's cell."""
     x, y, vx, vy, ax, ay = flight
     (p0, r0), (p1, r1), (p2, r2) = (table.coordinates(x, y), table.coordinates(vx, vy),
                                     table.coordinates(ax, ay))
     alpha, beta = [p0, p1, p2 / 2], [r0, r1, r2 / 2]
     d1, d2 = table.cell(x, y)
+    if path is not None:
+        a1x, a1y, a2x, a2y = table.a
+        return (_ThermoStrip(table.ctx, alpha, d1, path, (a2y / table.det, -a2x / table.det)),
+                _ThermoStrip(table.ctx, beta, d2, path, (-a1y / table.det, a1x / table.det)))
     return _Strip(table.ctx, alpha, d1), _Strip(table.ctx, beta, d2)
 
 
@@ -252,7 +300,7 @@ def _endless_gives_up(ctx, alpha, beta, t_limit, max_cells):
     return cells > max_cells
 
 
-def _walk_cells(table, flight, earliest, t_limit, tol):
+def _walk_cells(table, flight, earliest, t_limit, tol, path=None):
     """Step 4 on a lattice: walk the cells a flight crosses until its earliest hit is known.
 
     Parameters
@@ -269,6 +317,8 @@ def _walk_cells(table, flight, earliest, t_limit, tol):
         The walk may stop once the current cell's exit comes at or after it.
     tol : mpf
         The length tolerance at the start of the flight.
+    path : ThermoPath, optional
+        A thermostatted flight's path (``flight`` then carries its acceleration at the start).
 
     Returns
     -------
@@ -280,7 +330,7 @@ def _walk_cells(table, flight, earliest, t_limit, tol):
     """
     ctx = table.ctx
     max_cells = MAX_CELLS_PER_FLIGHT  # read at each call, so a test may lower it
-    alpha, beta = _strips(table, flight)
+    alpha, beta = _strips(table, flight, path)
     period = table.period(*flight[2:])
     endless = None if period is None else _Period(ctx, flight, period)
     for _ in range(max_cells):

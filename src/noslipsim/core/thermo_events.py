@@ -1,0 +1,560 @@
+r"""Event times of thermostatted flights: certified brackets, then safeguarded Newton on the closed form.
+
+A thermostatted path (:mod:`thermostat`) is transcendental, so its crossings
+are not roots of a polynomial.  Two facts make them as certain as the
+parabolic ones:
+
+* **Lines are unimodal.**  Along the flight, ``f(t) = f0 + n . (q(t) - q(0))``
+  has ``f' = c (n1 cos phi + n2 sin phi)`` (``n1, n2`` the field-frame parts
+  of ``n``); with ``cos phi = -tanh lambda``, ``sin phi = sgn / cosh lambda``
+  this vanishes only where ``sinh lambda = sgn n2 / n1``, and ``lambda`` falls
+  linearly: at most one critical time, in closed form.  So ``f`` has at most
+  one exit root (as a quadratic), isolated exactly between ``0``, the
+  critical time and the window's end, and polished by safeguarded Newton
+  with a bisection fallback (:func:`line_exit`).  Lattice strips and the
+  stop level are such functions too.
+* **Circles are bracketed by the curvature bound.**  ``G(t) = sigma (|d(t)|^2
+  - r^2)`` (``d = q - centre``) has ``G'' = 2 sigma (c^2 + d . a)`` with
+  ``|a| = E |sin phi| <= E`` (``|sin phi|`` is at most its value now once
+  ``|phi| < pi/2``: the heading only relaxes towards the field).  On a step
+  window ``[a, a + W]`` where ``|d| <= |d_a| + c W``, ``G`` lies between the
+  quadratics ``G_a + G'_a tau + (sigma c^2 -+ Q) tau^2``, ``Q = (|d_a| + c W)
+  E S``.  The first root of the lower quadratic is a step that cannot pass a
+  root (conservative advancement, quadratic near a transverse root); once the
+  upper quadratic also reaches zero inside the window, ``[a + tau_lo, a +
+  tau_up]`` holds exactly one root, an exit (``G' < 0`` throughout), polished
+  like a line's (:func:`round_hit`).  Where ``G`` is negative (an arc's
+  circle away from the arc) the upper quadratic bounds the time until ``G``
+  can be positive again.  A tangency to rounding (``G`` and ``G'`` zero to
+  their rounding) is decided from the exact second derivative, as the
+  polynomial solver decides it from the sign pattern around a double root:
+  a path that dips below by more than the rounding exits, one that does not
+  is a tangency (no collision).
+
+No collision is missed and none is invented, to the rounding of the closed
+form: the brackets are proofs in exact arithmetic, the polish only narrows
+them.  An exit exactly at the window's end counts; the element just hit has
+its root ``t = 0`` removed by reading the sign just after it from the
+derivatives (deflation, as for polynomials).
+"""
+import math
+
+from .geometry import LINE_GATE, copy_shift, element_box, extent_position, lattice_coordinates, line_value_exact
+from .jit import jit
+from .layout import ARC, LINE, SEGMENT
+from .roots import linear_exit, quadratic_exit
+from .thermostat import displacement, drag, state
+from .tolerances import ROOT_MAX_ITER
+
+INF = math.inf
+EPS = 2.220446049250313e-16
+
+#: Conservative steps one circle search may take before it gives up (never reached in the tests and
+#: benchmarks: a step is at least a fixed share of the remaining distance, or the search is at a
+#: tangency, which ends it).
+MAX_STEPS = 100_000
+#: Bracket doublings for the last, unbounded piece of a line (each doubles the time window).
+MAX_DOUBLINGS = 2100
+
+
+# ---------------------------------------------------------------------------- lines
+@jit(inline="always")
+def _field_parts(fl, nx, ny):
+    """``(n1, n2)``: ``n`` along the field and along ``J F``."""
+    fx = fl[12]
+    fy = fl[13]
+    return nx * fx + ny * fy, ny * fx - nx * fy
+
+
+@jit
+def _line_value(fl, n1, n2, nv, t):
+    """``(n . (q(t) - q(0)), n . v(t))`` for the field-frame parts ``n1, n2`` of ``n`` and ``nv = n . v(0)``."""
+    tl, dX, dY, cphi, sphi, _lam = displacement(fl, t)
+    return nv * tl + (n1 * dX + n2 * dY), fl[4] * (n1 * cphi + n2 * sphi)
+
+
+@jit
+def _line_root(fl, f0, n1, n2, nv, a, b, fa, fb):
+    """Root of the monotone ``f = f0 + n . (q(t) - q(0))`` in ``[a, b]`` with ``fa > 0 >= fb``: safeguarded Newton."""
+    if fb == 0.0:
+        return b
+    t = a + (b - a) * (fa / (fa - fb))
+    if not (a < t < b):
+        t = 0.5 * (a + b)
+    for _ in range(ROOT_MAX_ITER):
+        val, der = _line_value(fl, n1, n2, nv, t)
+        f = f0 + val
+        if f == 0.0:
+            return t
+        if f > 0.0:
+            a = t
+        else:
+            b = t
+        tn = t - f / der if der != 0.0 else 0.5 * (a + b)
+        if not (a <= tn <= b):
+            tn = 0.5 * (a + b)
+        if abs(tn - t) <= 2.0 * EPS * abs(tn) or b - a <= 2.0 * EPS * max(abs(a), abs(b)):
+            return tn
+        t = tn
+    return t
+
+
+@jit
+def _critical_time(fl, n1, n2):
+    """The one time ``> 0`` at which ``n . v(t)`` changes sign, or inf (straight flights and ``n1 = 0``: none)."""
+    sgn = fl[11]
+    if n1 == 0.0 or sgn == 0.0:
+        return INF
+    tc = (fl[10] - math.asinh(sgn * n2 / n1)) / fl[5]
+    return tc if tc > 0.0 else INF
+
+
+@jit
+def _decreasing_at_infinity(fl, f0, n1, n2):
+    """On the last piece (after any critical time): does ``f`` fall below 0 for good?"""
+    if fl[11] == 0.0:  # straight: f' = n . v0 for ever
+        fx = fl[12]
+        fy = fl[13]
+        return n1 * (fl[2] * fx + fl[3] * fy) + n2 * (fl[3] * fx - fl[2] * fy) < 0.0
+    if n1 < 0.0:
+        return True
+    if n1 > 0.0:
+        return False
+    # along J F: f tends to f0 + n2 dY(inf), dY(inf) = 2 R atan2(SC, C2)
+    return f0 + n2 * 2.0 * fl[6] * math.atan2(fl[9], fl[7]) < 0.0
+
+
+@jit
+def _exit_from(fl, f0, n1, n2, nv, a, fa, pos, hi, tc):
+    """First exit root in ``(a, hi]`` from ``f(a) = fa`` (``pos``: ``f > 0`` just after ``a``), critical time ``tc``."""
+    c = fl[4]
+    speed_n = c * math.hypot(n1, n2)      # |f'| <= c |n|
+    for piece in range(2):
+        b = tc if piece == 0 else INF
+        if b <= a:
+            continue
+        bb = min(b, hi)
+        if bb < INF:
+            val, der = _line_value(fl, n1, n2, nv, bb)
+            fb = f0 + val
+            if pos and (fb < 0.0 or (fb == 0.0 and bb == hi)):
+                if fa <= 0.0:  # deflated start: the root t = 0 is not an exit, f > 0 just after it
+                    fa = 0.0
+                    return _line_root_from_zero(fl, f0, n1, n2, nv, a, bb, fb, der)
+                return _line_root(fl, f0, n1, n2, nv, a, bb, fa, fb)
+            if bb >= hi:
+                return INF
+            a = bb
+            fa = fb
+            pos = fb > 0.0
+            continue
+        # the unbounded last piece: monotone; an exit only if it falls below 0 for good
+        if not pos or not _decreasing_at_infinity(fl, f0, n1, n2):
+            return INF
+        h = fa / speed_n if fa > 0.0 else 0.0
+        if fl[11] != 0.0 or not h > 0.0:  # a turning flight bends over the time 1 / k
+            h = max(h, 1.0 / fl[5])
+        for _ in range(MAX_DOUBLINGS):
+            val, der = _line_value(fl, n1, n2, nv, a + h)
+            fb = f0 + val
+            if fb <= 0.0:
+                if fa <= 0.0:
+                    return _line_root_from_zero(fl, f0, n1, n2, nv, a, a + h, fb, der)
+                return _line_root(fl, f0, n1, n2, nv, a, a + h, fa, fb)
+            h *= 2.0
+        return INF
+    return INF
+
+
+@jit
+def _line_root_from_zero(fl, f0, n1, n2, nv, a, b, fb, derb):
+    """The root in ``(a, b]`` of a deflated ``f`` (``f(a) = 0``, positive just after ``a``), bracketed off ``a``."""
+    # f > 0 on (a, a + h) for small h: halve from b until a positive value is found
+    h = b - a
+    for _ in range(1100):
+        h *= 0.5
+        val, _der = _line_value(fl, n1, n2, nv, a + h)
+        f = f0 + val
+        if f > 0.0:
+            return _line_root(fl, f0, n1, n2, nv, a + h, b, f, fb)
+        if f < 0.0:
+            b = a + h
+            fb = f
+        if h == 0.0:
+            break
+    return b
+
+
+@jit
+def line_exit(fl, f0, nx, ny, lo, hi, deflate):
+    """First exit root in ``(lo, hi]`` of ``f(t) = f0 + n . (q(t) - q(0))`` along a thermostatted flight, or inf.
+
+    ``f`` is positive on the table side (``n`` need not be unit).  ``deflate``
+    (with ``lo = 0``): ``f0 = 0`` is the root ``t = 0`` of the element just
+    hit, removed; the sign just after it is that of ``f'(0)`` (or ``f''(0)``).
+    """
+    n1, n2 = _field_parts(fl, nx, ny)
+    nv = nx * fl[2] + ny * fl[3]
+    tc = _critical_time(fl, n1, n2)
+    if lo == 0.0:
+        fa = f0
+        if deflate:
+            fa = 0.0
+            der = nx * fl[2] + ny * fl[3]
+            if der == 0.0:  # a contact along the line: the curvature decides
+                aex, aey = drag(fl[2], fl[3], fl[12], fl[13])
+                der = nx * aex + ny * aey
+            pos = der > 0.0
+        else:
+            pos = fa > 0.0
+    else:
+        val, der = _line_value(fl, n1, n2, nv, lo)
+        fa = f0 + val
+        pos = fa > 0.0
+    if pos and fa > 0.0 and hi < INF and fa > c_bound(fl, n1, n2) * (hi - lo):
+        return INF  # |f'| <= c |n|: f cannot reach 0 in the window
+    return _exit_from(fl, f0, n1, n2, nv, lo, fa, pos, hi, tc)
+
+
+@jit(inline="always")
+def c_bound(fl, n1, n2):
+    """``c |n|``, a bound on ``|f'|``."""
+    return fl[4] * math.hypot(n1, n2)
+
+
+@jit
+def face_exit(fl, f0, nx, ny, t_in):
+    """First time ``>= t_in`` at which ``f = f0 + n . (q(t) - q(0))`` (a strip's face, positive inside) leaves.
+
+    On or past the face at ``t_in`` and moving out: ``t_in`` (leave at once).
+    """
+    n1, n2 = _field_parts(fl, nx, ny)
+    nv = nx * fl[2] + ny * fl[3]
+    tc = _critical_time(fl, n1, n2)
+    if t_in == 0.0:
+        fa = f0
+        der = nv
+        vx = fl[2]
+        vy = fl[3]
+    else:
+        val, der = _line_value(fl, n1, n2, nv, t_in)
+        fa = f0 + val
+        vx, vy = state(fl, t_in)[2:]
+    if fa <= 0.0:
+        if der == 0.0:  # along the face: the path's curvature decides
+            aex, aey = drag(vx, vy, fl[12], fl[13])
+            der = nx * aex + ny * aey
+        if der < 0.0:
+            return t_in
+    return _exit_from(fl, f0, n1, n2, nv, t_in, fa, fa > 0.0, INF, tc)
+
+
+@jit
+def strip_exit(fl, alpha0, bx, by, d, t_in):
+    """First time ``>= t_in`` at which ``alpha(t) = alpha0 + (bx, by) . (q(t) - q(0))`` leaves ``[d - 1/2, d + 1/2]``.
+
+    Returns ``(t, step)``: ``+1`` through the upper face, ``-1`` through the lower, ``(inf, 0)`` if never.
+    """
+    t_up = face_exit(fl, d + 0.5 - alpha0, -bx, -by, t_in)
+    t_dn = face_exit(fl, alpha0 - (d - 0.5), bx, by, t_in)
+    if t_up <= t_dn and t_up < INF:
+        return t_up, 1
+    if t_dn < INF:
+        return t_dn, -1
+    return INF, 0
+
+
+# ---------------------------------------------------------------------------- circles and arcs
+@jit(inline="always")
+def _first_root(g, g1, m):
+    """Smallest ``tau > 0`` with ``g + g1 tau + m tau^2 = 0`` for ``g >= 0`` (inf if none), without cancellation."""
+    if m == 0.0:
+        return -g / g1 if g1 < 0.0 else INF
+    if m > 0.0:
+        if g1 >= 0.0:
+            return INF
+        disc = g1 * g1 - 4.0 * m * g
+        if disc < 0.0:
+            return INF
+        return 2.0 * g / (-g1 + math.sqrt(disc))
+    disc = g1 * g1 - 4.0 * m * g
+    sq = math.sqrt(disc)
+    if g1 >= 0.0:
+        return (g1 + sq) / (-2.0 * m)
+    return 2.0 * g / (sq - g1)
+
+
+@jit(inline="always")
+def _round_at(fl, cx, cy, sig, r, t):
+    """``(dx, dy, vx, vy, lam, G, G')`` at time ``t`` for the circle of centre ``(cx, cy)``."""
+    x0, y0, vx0, vy0, c, _k, _R, _C2, _S2, _SC, lam0, _sgn, fx, fy = fl
+    if t == 0.0:
+        dx = x0 - cx
+        dy = y0 - cy
+        vx = vx0
+        vy = vy0
+        lam = lam0
+    else:
+        tl, dX, dY, cphi, sphi, lam = displacement(fl, t)
+        dx = ((x0 - cx) + tl * vx0) + (dX * fx - dY * fy)
+        dy = ((y0 - cy) + tl * vy0) + (dX * fy + dY * fx)
+        vx = c * (cphi * fx - sphi * fy)
+        vy = c * (cphi * fy + sphi * fx)
+    G = sig * ((dx * dx + dy * dy) - r * r)
+    G1 = sig * 2.0 * (dx * vx + dy * vy)
+    return dx, dy, vx, vy, lam, G, G1
+
+
+@jit
+def _round_root(fl, cx, cy, sig, r, a, b):
+    """Root in ``[a, b]`` of ``G`` with ``G(a) >= 0 >= G(b)`` certified: safeguarded Newton on the closed form."""
+    Ga = _round_at(fl, cx, cy, sig, r, a)[5]
+    if Ga <= 0.0:
+        return a
+    Gb = _round_at(fl, cx, cy, sig, r, b)[5]
+    if Gb >= 0.0:
+        return b
+    t = a + (b - a) * (Ga / (Ga - Gb))
+    if not (a < t < b):
+        t = 0.5 * (a + b)
+    for _ in range(ROOT_MAX_ITER):
+        G, G1 = _round_at(fl, cx, cy, sig, r, t)[5:]
+        if G == 0.0:
+            return t
+        if G > 0.0:
+            a = t
+        else:
+            b = t
+        tn = t - G / G1 if G1 != 0.0 else 0.5 * (a + b)
+        if not (a <= tn <= b):
+            tn = 0.5 * (a + b)
+        if abs(tn - t) <= 2.0 * EPS * abs(tn) or b - a <= 2.0 * EPS * max(abs(a), abs(b)):
+            return tn
+        t = tn
+    return t
+
+
+@jit
+def _straight_round_exit(fl, cx, cy, sig, r, lo, hi, deflate):
+    """A straight flight (along or against the field): the exit root of the quadratic, if in ``(lo, hi]``."""
+    dx = fl[0] - cx
+    dy = fl[1] - cy
+    vx = fl[2]
+    vy = fl[3]
+    c1 = sig * 2.0 * (dx * vx + dy * vy)
+    c2 = sig * (vx * vx + vy * vy)
+    if deflate:
+        t = linear_exit(c1, c2, hi)
+    else:
+        t = quadratic_exit(sig * ((dx * dx + dy * dy) - r * r), c1, c2, hi)
+    return t if t > lo else INF
+
+
+@jit
+def round_hit(kind, p, fl, sx, sy, lo, hi, deflate, extent_tol, E):
+    """First exit root in ``(lo, hi]`` of a circle or arc copy (shifted by ``(sx, sy)``) within its extent, or inf.
+
+    Conservative steps between the quadratic bounds of the module docstring;
+    ``deflate`` (with ``lo = 0``): the copy was just hit at ``t = 0``.
+    """
+    cx = p[0] + sx
+    cy = p[1] + sy
+    r = p[2]
+    sig = p[3]
+    c = fl[4]
+    if fl[11] == 0.0:  # a straight flight: one quadratic exit at most
+        t = _straight_round_exit(fl, cx, cy, sig, r, lo, hi, deflate)
+        if t < INF and kind == ARC:
+            hx, hy = state(fl, t)[:2]
+            if extent_position(kind, p, hx - sx, hy - sy, extent_tol) < 0:
+                return INF
+        return t
+    d0 = math.hypot(fl[0] - cx, fl[1] - cy)
+    a = lo
+    dx, dy, vx, vy, lam, G, G1 = _round_at(fl, cx, cy, sig, r, a)
+    if deflate and a == 0.0:
+        G = 0.0
+    out = False  # just crossed out of the table side (an exit outside an arc's extent)
+    for _ in range(MAX_STEPS):
+        if a >= hi:
+            return INF
+        dn = math.hypot(dx, dy)
+        S = 1.0 if lam >= 0.0 else 1.0 / math.cosh(lam)
+        W = (dn + r) / c
+        Q = (2.0 * dn + r) * E * S
+        span = min(W, hi - a)
+        noise = 32.0 * EPS * (dn + r) * (dn + r + d0 + c * a)
+        step = span
+        if not out and (G > 0.0 or (G == 0.0 and G1 > 0.0)):
+            tlo = _first_root(G, G1, sig * c * c - Q)
+            if tlo < span:
+                tup = _first_root(G, G1, sig * c * c + Q)
+                root = INF
+                if tup <= span:
+                    root = _round_root(fl, cx, cy, sig, r, a + tlo, a + tup)
+                elif G <= noise:  # zero to rounding and no sure crossing: a tangency, decided by G''
+                    aex, aey = drag(vx, vy, E * fl[12], E * fl[13])
+                    G2 = sig * 2.0 * ((vx * vx + vy * vy) + (dx * aex + dy * aey))
+                    if G2 <= 0.0 and G1 <= 0.0:  # at the circle and curving out: it leaves here
+                        root = a + _first_root(max(G, 0.0), G1, 0.5 * G2)
+                    elif G1 < 0.0 and G2 > 0.0:
+                        tm = -G1 / G2
+                        if G - 0.5 * G1 * G1 / G2 < -noise:  # a dip deeper than rounding: the first crossing
+                            root = a + 2.0 * G / (-G1 + math.sqrt(G1 * G1 - 2.0 * G2 * G))
+                        else:  # a tangency: step past the minimum (no collision)
+                            tlo = min(max(tlo, 2.0 * tm), span)
+                if root < INF:
+                    if root > lo and root <= hi:
+                        if kind != ARC:
+                            return root
+                        hx, hy = state(fl, root)[:2]
+                        if extent_position(kind, p, hx - sx, hy - sy, extent_tol) >= 0:
+                            return root
+                    elif root > hi:
+                        return INF
+                    a = max(root, a)
+                    out = True
+                    dx, dy, vx, vy, lam, G, G1 = _round_at(fl, cx, cy, sig, r, a)
+                    continue
+                step = tlo
+            elif hi == INF and lam <= 0.0 and dx * fl[12] + dy * fl[13] > r:
+                return INF  # beyond the circle along the field, and moving on along it for good
+        else:
+            # G <= 0: the upper bound tells when G may be positive again
+            tin = _first_root(max(-G, 0.0), -G1, -(sig * c * c + Q))
+            out = False
+            if tin < span:
+                step = tin
+            elif hi == INF and lam <= 0.0 and dx * fl[12] + dy * fl[13] > r:
+                return INF
+        if not step > 0.0:  # no progress (G, G' and the bound all zero): move on by a rounding step
+            step = max(4.0 * EPS * a, EPS * dn / c)
+        a += step
+        dx, dy, vx, vy, lam, G, G1 = _round_at(fl, cx, cy, sig, r, a)
+    return INF
+
+
+# ---------------------------------------------------------------------------- elements, cells, lattices
+@jit
+def element_hit(kind, p, fl, sx, sy, deflate, lo, hi, extent_tol, E):
+    """First time in ``(lo, hi]`` at which the thermostatted flight leaves the table through this copy, or inf."""
+    if kind == LINE or kind == SEGMENT:
+        nx = p[2]
+        ny = p[3]
+        f0 = 0.0 if deflate else ((fl[0] - sx) - p[0]) * nx + ((fl[1] - sy) - p[1]) * ny
+        t = line_exit(fl, f0, nx, ny, lo, hi, deflate)
+        if t < INF and kind == SEGMENT:
+            hx, hy = state(fl, t)[:2]
+            if extent_position(kind, p, hx - sx, hy - sy, extent_tol) < 0:
+                return INF
+        return t
+    return round_hit(kind, p, fl, sx, sy, lo, hi, deflate, extent_tol, E)
+
+
+@jit
+def hit_in_cell(kinds, params, copies, A, d1, d2, fl, E, cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, shifted):
+    """Earliest hit in ``(t_in, hi]`` over the copies that reach cell ``(d1, d2)`` (:func:`events.hit_in_cell`).
+
+    The copy just hit is searched from ``t = 0`` with its root there removed.
+    Copies out of reach in the window (farther than ``c (hi - t_in)`` from
+    the position at ``t_in``) are skipped.  Returns ``(t, element, o1, o2)``
+    or ``(inf, -1, 0, 0)``.
+    """
+    bounded = hi < INF
+    xi = 0.0
+    yi = 0.0
+    reach = INF
+    if bounded:
+        xi, yi = state(fl, t_in)[:2]
+        reach = fl[4] * (hi - t_in) * (1.0 + 1e-9) + extent_tol
+    best_t = hi
+    best_e = -1
+    best_o1 = 0
+    best_o2 = 0
+    for k in range(copies.shape[0]):
+        e = copies[k, 0]
+        o1 = copies[k, 1] + d1
+        o2 = copies[k, 2] + d2
+        sx, sy = copy_shift(A, o1, o2, shifted)
+        if e == cur_e and o1 == cur_o1 and o2 == cur_o2:
+            t = element_hit(kinds[e], params[e], fl, sx, sy, True, 0.0, best_t, extent_tol, E)
+        else:
+            if bounded:
+                ex0, ey0, ex1, ey1 = element_box(kinds[e], params[e])
+                if (ex0 + sx > xi + reach or ex1 + sx < xi - reach
+                        or ey0 + sy > yi + reach or ey1 + sy < yi - reach):
+                    continue
+            t = element_hit(kinds[e], params[e], fl, sx, sy, False, t_in, best_t, extent_tol, E)
+        if t < best_t or (best_e < 0 and t == best_t and t < INF):
+            best_t = t
+            best_e = e
+            best_o1 = o1
+            best_o2 = o2
+    if best_e < 0:
+        return INF, -1, 0, 0
+    return best_t, best_e, best_o1, best_o2
+
+
+@jit
+def walk_hit(kinds, params, copies, A, B, fl, E, cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells):
+    """Earliest hit of a thermostatted flight in a periodic scene (:func:`cells.walk_hit`).
+
+    The lattice coordinates ``alpha(t) = B[0] . q(t)``, ``beta(t) = B[1] . q(t)``
+    are line functionals of the path: each strip exit is a :func:`face_exit`.
+    Returns ``(t, element, o1, o2, status)``, status 0 hit, 1 past ``t_limit``,
+    2 past ``max_cells`` cells.
+    """
+    a0, b0 = lattice_coordinates(B, fl[0], fl[1])
+    d1 = 0
+    d2 = 0
+    t_in = 0.0
+    ta, sa = strip_exit(fl, a0, B[0, 0], B[0, 1], 0, 0.0)
+    tb, sb = strip_exit(fl, b0, B[1, 0], B[1, 1], 0, 0.0)
+    for _ in range(max_cells):
+        t_out = min(ta, tb)
+        t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, fl, E, cur_e, cur_o1, cur_o2, t_out,
+                                   extent_tol, t_in, True)
+        if e >= 0:
+            return t, e, o1, o2, 0
+        if t_out >= t_limit:
+            return INF, -1, 0, 0, 1
+        if ta == t_out:
+            d1 += sa
+            ta, sa = strip_exit(fl, a0, B[0, 0], B[0, 1], d1, t_out)
+        if tb == t_out:
+            d2 += sb
+            tb, sb = strip_exit(fl, b0, B[1, 0], B[1, 1], d2, t_out)
+        t_in = t_out
+    return INF, -1, 0, 0, 2
+
+
+@jit
+def exact_line_hit(kind, p, fl, sx, sy, deflated, t, hx, hy, px, py, vxi, vyi):
+    """:func:`events.exact_line_hit` for a thermostatted flight: a hit far along a long wall, redone exactly.
+
+    ``(hx, hy)`` is the hit point relative to the copy, ``(px, py)`` its plain
+    projection.  Where the start's distance cancelled the exit root is solved
+    again from its exact value; where the projection's error exceeds the
+    gate, the point is projected with the exact distance.  Returns
+    ``(t, px, py, vx, vy)``.
+    """
+    nx = p[2]
+    ny = p[3]
+    x = fl[0] - sx
+    y = fl[1] - sy
+    a = (x - p[0]) * nx
+    b = (y - p[1]) * ny
+    ha = (hx - p[0]) * nx
+    hb = (hy - p[1]) * ny
+    cancelled = not deflated and abs(a) + abs(b) > LINE_GATE * abs(a + b)
+    if not cancelled and abs(ha) + abs(hb) <= LINE_GATE * max(abs(hx), abs(hy)):
+        return t, px, py, vxi, vyi
+    if cancelled:
+        t2 = line_exit(fl, line_value_exact(kind, p, x, y), nx, ny, 0.0, INF, False)
+        if t2 < INF:
+            t = t2
+            qx, qy, vxi, vyi = state(fl, t)
+            hx = qx - sx
+            hy = qy - sy
+    d = line_value_exact(kind, p, hx, hy)
+    return t, hx - d * nx, hy - d * ny, vxi, vyi
