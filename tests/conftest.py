@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 matplotlib.use("Agg")  # before pyplot: the tests draw without a display
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
 GAMMAS = [0.0, 1e-8, 0.3, 1 / math.sqrt(2), 1.0, 3.0, 100.0]
 

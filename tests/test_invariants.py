@@ -3,16 +3,13 @@
 10^5 collisions per family here; the stress profile (tests/test_stress.py, ``-m stress``) runs the
 same checks over 10^8 (benchmarks/results/stress.md).
 """
-import math
 
 import numpy as np
 import pytest
+from invariants import FAMILIES, leak_depth, on_element_error, relative_energy_drift
 
 from noslipsim import simulate, tables
-
 from noslipsim.core.tolerances import CONTACT_TOL
-
-from invariants import FAMILIES, leak_depth, on_element_error, relative_energy_drift
 
 N_LONG = 100_000
 #: Tolerances (relative to the scene size): float64 positions are exact to a few ulps.
@@ -28,7 +25,7 @@ def long_orbit(request):
 
 
 def test_orbit_runs_to_the_end(long_orbit):
-    name, scene, ds = long_orbit
+    name, _scene, ds = long_orbit
     assert ds.attrs["stop_reason"] == "max_collisions", name
     assert int(ds.n_collisions) == N_LONG
 
@@ -44,7 +41,7 @@ def test_flights_stay_inside_the_table(long_orbit):
 
 
 def test_energy_drift_over_the_orbit(long_orbit):
-    name, scene, ds = long_orbit
+    name, _scene, ds = long_orbit
     drift = relative_energy_drift(ds)
     print(f"{name}: relative energy drift over {N_LONG} collisions = {drift:.2e}")
     assert drift < 1e-10, name

@@ -49,7 +49,7 @@ def _build(cls, where, **fields):
     """Construct from file fields so that validation errors name the element's place in the file."""
     obj = cls.__new__(cls)
     _set(obj, **fields)
-    obj.__post_init__(where)
+    obj._validate(where)
     return obj
 
 
@@ -69,7 +69,11 @@ class Line:
     type_name = "line"
     finite = False
 
-    def __post_init__(self, where="line"):
+    def __post_init__(self) -> None:
+        self._validate("line")
+
+    def _validate(self, where: str) -> None:
+        """Check and normalise the fields; errors name ``where`` (the element's place in a file)."""
         point = finite_vector(self.point, f"{where}.point")
         normal = finite_vector(self.normal, f"{where}.normal")
         if normal[0] == 0.0 and normal[1] == 0.0:
@@ -122,7 +126,11 @@ class Segment:
     type_name = "segment"
     finite = True
 
-    def __post_init__(self, where="segment"):
+    def __post_init__(self) -> None:
+        self._validate("segment")
+
+    def _validate(self, where: str) -> None:
+        """Check and normalise the fields; errors name ``where`` (the element's place in a file)."""
         p0 = finite_vector(self.p0, f"{where}.p0")
         p1 = finite_vector(self.p1, f"{where}.p1")
         if np.array_equal(p0, p1):
@@ -200,7 +208,11 @@ class Circle:
     type_name = "circle"
     finite = False  # a full circle bounds the table globally, like a line
 
-    def __post_init__(self, where="circle"):
+    def __post_init__(self) -> None:
+        self._validate("circle")
+
+    def _validate(self, where: str) -> None:
+        """Check and normalise the fields; errors name ``where`` (the element's place in a file)."""
         center = finite_vector(self.center, f"{where}.center")
         radius = _radius(self.radius, where)
         _side(self.side, ("outside", "inside"), f"{where}.side")
@@ -262,7 +274,11 @@ class Arc:
     type_name = "arc"
     finite = True
 
-    def __post_init__(self, where="arc"):
+    def __post_init__(self) -> None:
+        self._validate("arc")
+
+    def _validate(self, where: str) -> None:
+        """Check and normalise the fields; errors name ``where`` (the element's place in a file)."""
         center = finite_vector(self.center, f"{where}.center")
         radius = _radius(self.radius, where)
         theta0 = finite_float(self.theta0, f"{where}.theta0")

@@ -57,18 +57,26 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from .._metadata import annotate
 from .._validate import count, positive
 from ..elements import Arc, Circle, Segment
 from ..ensemble import simulate_many
 from ..initial import rng_from
-from .._metadata import annotate
 from ..scenes import Scene
 from .lyapunov import lyapunov_run
-from .section import require_free_fall
 from .portraits import birkhoff_states, reduced_states
+from .section import require_free_fall
 
-__all__ = ["REGULAR_THRESHOLD", "VISIBLE_SHARE", "uniform_reduced_states", "interior_starts",
-           "finite_time_lyapunov", "regular_share", "onset_gamma", "head_on_onset_gamma"]
+__all__ = [
+    "REGULAR_THRESHOLD",
+    "VISIBLE_SHARE",
+    "finite_time_lyapunov",
+    "head_on_onset_gamma",
+    "interior_starts",
+    "onset_gamma",
+    "regular_share",
+    "uniform_reduced_states",
+]
 
 #: Finite-time exponent per collision below which an orbit counts as regular.  Measured on
 #: the no-slip Sinai torus (R = 0.4 and 0.45, gamma in [0, 1], 1000 collisions, 23,200 orbits):

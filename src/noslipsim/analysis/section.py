@@ -34,6 +34,7 @@ from ..core.batch import F_NREC, F_STOP
 from ..scenes import Scene
 from ..simulate import check_limits, check_start, run_one, start_cell
 
+
 def require_free_fall(scene: Scene, what):
     """Refuse a thermostatted scene by name: ``what`` assumes parabolic flights and the energy ``|v|^2/2 - a . q``.
 

@@ -174,7 +174,7 @@ class _Earliest:
     earlier cell).
     """
 
-    __slots__ = ("solve", "rel_tol", "met", "t", "copy")
+    __slots__ = ("copy", "met", "rel_tol", "solve", "t")
 
     def __init__(self, solve, rel_tol):
         self.solve, self.rel_tol = solve, rel_tol
