@@ -9,19 +9,19 @@ import matplotlib.pyplot as plt
 
 GAMMAS = [0.0, 1e-8, 0.3, 1 / math.sqrt(2), 1.0, 3.0, 100.0]
 
-#: The longest test files (each minutes from a cold cache, most of it in subprocesses), started first:
-#: pytest-xdist hands whole groups of tests to its workers in collection order (pyproject: --dist
-#: loadgroup, --no-loadscope-reorder), so no long file starts last while the other worker idles.
-LONGEST_FIRST = ["test_pipeline.py", "test_slurm.py", "test_compile_cache.py", "test_docs.py",
-                 "test_distributed.py", "test_explorer_browser.py", "test_ablation.py"]
+#: The long test files that compile into caches of their own (each minutes, most of it in subprocesses)
+#: start first, the docs build (which loads the session's kernels) last: pytest-xdist hands whole groups
+#: of tests to its workers in collection order (pyproject: --dist loadgroup, --no-loadscope-reorder).
+FIRST = ["test_pipeline.py", "test_slurm.py", "test_compile_cache.py"]
+LAST = ["test_docs.py"]
 #: Files that use another file's session fixture run in its worker: the reduced pipeline is built once.
 SAME_WORKER = {"test_slurm.py": "test_pipeline.py"}
 
 
 @pytest.hookimpl(tryfirst=True)  # before xdist names the groups
 def pytest_collection_modifyitems(items):
-    rank = {name: i for i, name in enumerate(LONGEST_FIRST)}
-    items.sort(key=lambda item: rank.get(item.path.name, len(rank)))  # stable: the rest keep their order
+    rank = {name: i - len(FIRST) for i, name in enumerate(FIRST)} | {name: 1 + i for i, name in enumerate(LAST)}
+    items.sort(key=lambda item: rank.get(item.path.name, 0))  # stable: the rest keep their order
     for item in items:  # one group per file (module fixtures are built in one worker)
         item.add_marker(pytest.mark.xdist_group(SAME_WORKER.get(item.path.name, item.path.name)))
 
