@@ -1,4 +1,7 @@
+import fcntl
 import math
+import os
+import shutil
 
 import matplotlib
 import numpy as np
@@ -9,21 +12,17 @@ import matplotlib.pyplot as plt
 
 GAMMAS = [0.0, 1e-8, 0.3, 1 / math.sqrt(2), 1.0, 3.0, 100.0]
 
-#: The long test files that compile into caches of their own (each minutes, most of it in subprocesses)
-#: start first, the docs build (which loads the session's kernels) last: pytest-xdist hands whole groups
-#: of tests to its workers in collection order (pyproject: --dist loadgroup, --no-loadscope-reorder).
-FIRST = ["test_pipeline.py", "test_slurm.py", "test_compile_cache.py"]
-LAST = ["test_docs.py"]
-#: Files that use another file's session fixture run in its worker: the reduced pipeline is built once.
-SAME_WORKER = {"test_slurm.py": "test_pipeline.py"}
+#: The long test files that compile into caches of their own (minutes each, most of it in subprocesses)
+#: start first; last the SLURM tests (they wait for the reduced pipeline the first file builds) and the
+#: docs build (it loads the kernels the session compiled): pytest-xdist hands whole files to its workers
+#: in collection order (pyproject: --dist loadfile, --no-loadscope-reorder).
+FIRST = ["test_pipeline.py", "test_compile_cache.py"]
+LAST = ["test_slurm.py", "test_docs.py"]
 
 
-@pytest.hookimpl(tryfirst=True)  # before xdist names the groups
 def pytest_collection_modifyitems(items):
     rank = {name: i - len(FIRST) for i, name in enumerate(FIRST)} | {name: 1 + i for i, name in enumerate(LAST)}
     items.sort(key=lambda item: rank.get(item.path.name, 0))  # stable: the rest keep their order
-    for item in items:  # one group per file (module fixtures are built in one worker)
-        item.add_marker(pytest.mark.xdist_group(SAME_WORKER.get(item.path.name, item.path.name)))
 
 
 @pytest.fixture
@@ -40,19 +39,34 @@ def ax():
 
 
 # ---------------------------------------------------------------- the reduced pipeline, built once
+def _session_folder(tmp_path_factory):
+    """A folder of this test session that every pytest-xdist worker sees (each has a basetemp of its own)."""
+    base = tmp_path_factory.getbasetemp()
+    return base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
+
+
 @pytest.fixture(scope="session")
 def cold_cache(tmp_path_factory):
-    """An empty numba cache for the first run, as a new user has it."""
-    return tmp_path_factory.mktemp("numba-cache-a")
+    """An empty numba cache for the first run, as a new user has it (one per session, all workers)."""
+    return _session_folder(tmp_path_factory) / "numba-cache-a"
 
 
 @pytest.fixture(scope="session")
 def repo(tmp_path_factory, cold_cache):
     """A copy of the workflow with the reduced run built in it: two jobs at a time, from an empty cache.
 
-    Shared by test_pipeline.py and test_slurm.py (the local run the SLURM runs must reproduce)."""
-    from pipeline_run import snakemake, workflow_copy
+    Shared by test_pipeline.py and test_slurm.py (the local run the SLURM runs must reproduce), which
+    pytest-xdist may run in different workers: the first to ask builds it under a file lock, the
+    other waits for it and reuses it."""
+    from pipeline_run import copy_workflow, snakemake
 
-    repo = workflow_copy(tmp_path_factory, "pipeline")
-    snakemake(repo, "--cores", "2", cache=cold_cache)
+    shared = _session_folder(tmp_path_factory)
+    repo, built = shared / "pipeline", shared / "pipeline.built"
+    with open(shared / "pipeline.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not built.exists():
+            shutil.rmtree(repo, ignore_errors=True)  # a half-built run of a worker that failed
+            cold_cache.mkdir(exist_ok=True)
+            snakemake(copy_workflow(repo), "--cores", "2", cache=cold_cache)
+            built.touch()
     return repo

@@ -25,7 +25,13 @@ def snakemake(repo, *args, check=True, cache=None):
 
 
 def workflow_copy(tmp_path_factory, name):
-    repo = tmp_path_factory.mktemp(name)
+    """A fresh copy of the workflow in a new temporary folder ``name``."""
+    return copy_workflow(tmp_path_factory.mktemp(name))
+
+
+def copy_workflow(repo):
+    """Copy what the workflow needs into the folder ``repo``; returns it."""
+    repo.mkdir(parents=True, exist_ok=True)
     for item in WORKFLOW_FILES:
         src, dst = ROOT / item, repo / item
         if src.is_dir():

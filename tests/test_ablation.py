@@ -13,11 +13,9 @@ The default run checks the scene's own variant and each flag fixed alone;
 """
 import functools
 import itertools
-import math
 
 import numpy as np
 import pytest
-
 from kernel_call import record_buffer, run_kernel
 
 from noslipsim import Circle, Scene, tables
@@ -72,7 +70,7 @@ def bits(values):
     return np.asarray(values, dtype=np.float64).view(np.int64)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def general(name, law, mode):
     out, rec = run(GENERAL, name, law, mode)
     # the comparison must not be vacuous: a full-length orbit, and records actually written
@@ -122,7 +120,7 @@ def test_every_partial_variant_bitwise_identical_to_general(name, law, mode_name
 def test_comparison_sees_one_ulp_and_a_wrong_law():
     """The identity checks above are sharp: a start one ulp off, or a variant for
     another scene (spin=False forces the specular law), gives other outputs."""
-    out_g, rec_g = general("sinai_box", "no-slip", LOG)
+    out_g, _rec_g = general("sinai_box", "no-slip", LOG)
     q = SCENES["sinai_box"][1]
     nudged = run(GENERAL, "sinai_box", "no-slip", LOG, start=(np.nextafter(q[0], 1.0), q[1]))[0]
     assert not np.array_equal(bits(nudged), bits(out_g))

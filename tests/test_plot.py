@@ -5,17 +5,17 @@ import math
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pytest  # noqa: E402
-import xarray as xr  # noqa: E402
-from matplotlib.collections import LineCollection, PatchCollection  # noqa: E402
-from matplotlib.patches import FancyArrowPatch  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+import xarray as xr
+from matplotlib.collections import LineCollection, PatchCollection
+from matplotlib.patches import FancyArrowPatch
 
-import noslipsim as ns  # noqa: E402
-from noslipsim import plot, tables  # noqa: E402
-from noslipsim.elements import Arc, Circle, Line, Segment  # noqa: E402
-from noslipsim.plot.numbers import check_record  # noqa: E402
+import noslipsim as ns
+from noslipsim import plot, tables
+from noslipsim.elements import Arc, Circle, Line, Segment
+from noslipsim.plot.numbers import check_record
 
 
 def every_kind():
@@ -52,7 +52,7 @@ def test_line_outside_the_window_draws_no_chord(ax):
 def test_lattice_draws_every_peg_in_the_window(ax):
     board = tables.galton_board(2.0, 0.5, 1.0)
     plot.draw_table(ax, board, window=(-4.0, 4.0, -4.0, 0.5))
-    discs = [c for c in ax.collections if isinstance(c, PatchCollection)][0]
+    discs = next(c for c in ax.collections if isinstance(c, PatchCollection))
     centres = np.array([(p.vertices.min(axis=0) + p.vertices.max(axis=0)) / 2 for p in discs.get_paths()])
     # the pegs whose disc meets the window, counted directly on the lattice
     want = {(round(2 * i + j, 6), round(j * math.sqrt(3), 6)) for i in range(-10, 11) for j in range(-10, 11)
@@ -339,7 +339,7 @@ def test_two_disk_setup_puts_q0_q1_and_the_flight_where_the_experiment_has_them(
     q0, q1 = plot.draw_two_disk_setup(ax, R, phi, theta)
     np.testing.assert_allclose(q0, [-1 + R * math.cos(phi), R * math.sin(phi)])
     np.testing.assert_allclose(q1, [1 - R * math.cos(phi), R * math.sin(phi)])
-    flight = max(ax.lines, key=lambda l: len(l.get_xdata()))          # the sampled parabola
+    flight = max(ax.lines, key=lambda line: len(line.get_xdata()))          # the sampled parabola
     x, y = flight.get_xdata(), flight.get_ydata()
     np.testing.assert_allclose([x[0], y[0], x[-1], y[-1]], [*q0, *q1], atol=1e-12)
     assert (y[1] - y[0]) / (x[1] - x[0]) == pytest.approx(math.tan(theta), rel=0.05)   # launched at theta

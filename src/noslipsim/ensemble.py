@@ -20,17 +20,17 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
-from ._validate import finite_float
-from ._version import __version__
-from .core import layout
-from .core.batch import F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y
+from ._chunkstore import chunk_path, digest, is_done, open_chunks, open_folder, write_chunk
 from ._engine.canonical import canonical_form
 from ._engine.lattice import cell_of, cell_origin
 from ._engine.run import run_orbits
 from ._engine.table import kernel_table
-from ._chunkstore import chunk_path, digest, is_done, open_chunks, open_folder, write_chunk
 from ._metadata import annotate
 from ._scheduler import check_scheduler, run_tasks
+from ._validate import finite_float
+from ._version import __version__
+from .core import layout
+from .core.batch import F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y
 from .scenes import Scene
 from .simulate import START_MARGIN, check_limits
 

@@ -23,14 +23,14 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike
 import yaml
+from numpy.typing import ArrayLike
 
+from ._engine.lattice import cell_of, lattice_matrix
 from ._unit import unit_pair
 from ._validate import finite_vector, no_unknown_keys, nonnegative, read_yaml, required
 from .core import layout
 from .core.laws import noslip_coefficients
-from ._engine.lattice import cell_of, lattice_matrix
 from .elements import Arc, Circle, Line, Segment, element_from_dict
 
 LAWS = {"no-slip": layout.NOSLIP, "noslip": layout.NOSLIP, "specular": layout.SPECULAR}

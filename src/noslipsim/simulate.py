@@ -8,15 +8,15 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
-from ._validate import finite_float, finite_vector
-from ._version import __version__
 from ._engine.canonical import canonical_form
 from ._engine.lattice import cell_of, cell_origin
 from ._engine.run import run_orbits
 from ._engine.table import kernel_table
+from ._metadata import annotate
+from ._validate import finite_float, finite_vector
+from ._version import __version__
 from .core import layout
 from .core.batch import F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y
-from ._metadata import annotate
 from .scenes import Scene
 
 _COLUMNS = {
@@ -115,7 +115,7 @@ def simulate(scene: Scene, position: ArrayLike, velocity: ArrayLike, spin: float
                          f"({max_collisions * layout.N_LOG * 8 / 2**30:.3g} GiB); for long orbits use "
                          "simulate_many(..., record='final')") from None
     out = run_one(scene, q, v, w, max_collisions, max_time, level, layout.RECORD_LOG, rec)
-    n, stop, n_corner, n_rec, final, cell = out
+    _n, stop, n_corner, n_rec, final, cell = out
     return _orbit_dataset(scene, rec[:n_rec], stop, n_corner, final, cell,
                           dict(position=q.tolist(), velocity=v.tolist(), spin=w))
 

@@ -3,13 +3,13 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import matplotlib  # noqa: E402
+import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-from noslipsim import plot  # noqa: E402
+from noslipsim import plot
 
 SPAN = 4.5  # half-width of the histogram, in standard deviations
 

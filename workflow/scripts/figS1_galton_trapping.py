@@ -3,14 +3,14 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import matplotlib  # noqa: E402
+import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-from noslipsim import plot  # noqa: E402
-from noslipsim.analysis import arrival_curve  # noqa: E402
+from noslipsim import plot
+from noslipsim.analysis import arrival_curve
 
 arrivals = plot.load_figure_data(snakemake.input.arrivals)
 sweep = plot.load_figure_data(snakemake.input.sweep)

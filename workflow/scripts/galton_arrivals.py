@@ -3,9 +3,9 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-from noslipsim import write_dataset  # noqa: E402
-from noslipsim.cluster import ensemble_options  # noqa: E402
-from noslipsim.experiments import galton_distribution  # noqa: E402
+from noslipsim import write_dataset
+from noslipsim.cluster import ensemble_options
+from noslipsim.experiments import galton_distribution
 
 board, run = dict(snakemake.params.board), snakemake.params.run
 termination = board.pop("max_time")

@@ -3,8 +3,8 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-from noslipsim import write_dataset  # noqa: E402
-from noslipsim.experiments import galton_orbits  # noqa: E402
+from noslipsim import write_dataset
+from noslipsim.experiments import galton_orbits
 
 board, orbits = dict(snakemake.params.board), snakemake.params.orbits
 board.pop("max_time")  # the orbits have their own time limit

@@ -4,10 +4,10 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
+import numpy as np
+import xarray as xr
 
-from noslipsim.analysis import arrival_curve  # noqa: E402
+from noslipsim.analysis import arrival_curve
 
 dist = xr.load_dataset(snakemake.input.distribution)
 long_run = xr.load_dataset(snakemake.input.arrivals)
@@ -18,8 +18,8 @@ gamma = float(dist.gamma.sel(law="no-slip"))
 
 def share(ds, law, gamma=None):
     """Share not arrived by the run's end and its binomial standard error, for one case."""
-    case = ds.isel(law=[i for i, (l, g) in enumerate(zip(ds.law.values, ds.gamma.values))
-                        if l == law and (gamma is None or np.isclose(g, gamma))][0])
+    case = ds.isel(law=next(i for i, (name, g) in enumerate(zip(ds.law.values, ds.gamma.values))
+                        if name == law and (gamma is None or np.isclose(g, gamma))))
     p = float(case.share_not_arrived)
     return p, float(np.sqrt(p * (1 - p) / case.sizes["particle"]))
 
@@ -65,7 +65,7 @@ for law, g in (("no-slip", gamma), ("specular", None)):
         paper="the phenomenon persists (no value given)" if law == "no-slip" else "",
         note=f"a subsample of {m:,} particles")
 curve = arrival_curve(long_run)
-trapped = curve.isel(law=[i for i, g in enumerate(curve.gamma.values) if np.isclose(g, gamma)][0])
+trapped = curve.isel(law=next(i for i, g in enumerate(curve.gamma.values) if np.isclose(g, gamma)))
 if np.isfinite(float(trapped.trapped_share)):
     numbers["trapped_share_noslip"] = dict(
         description=f"no-slip (γ = {gamma:.3g}) share that never arrives, extrapolated from the arrival tail",

@@ -6,10 +6,10 @@ import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
 
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
+import numpy as np
+import xarray as xr
 
-from noslipsim.experiments import survival_pattern  # noqa: E402
+from noslipsim.experiments import survival_pattern
 
 band, min_run = snakemake.params.band, snakemake.params.min_run
 grid = {k: xr.load_dataset(snakemake.input[k]) for k in ("noforce", "force", "theta")}
@@ -72,7 +72,7 @@ t_star = float(scan.theta_transition.sel(phi=launch_phi))
 lam = scan.lambda_max.sel(phi=launch_phi)
 at = {t: float(lam.sel(theta=t, method="nearest")) for t in snakemake.params.thetas}
 numbers["wedge_transition_theta"] = dict(
-    description=f"wedge of half-angle π/7 (full angle 2π/7): launch angle where the 2-periodic orbit turns from "
+    description="wedge of half-angle π/7 (full angle 2π/7): launch angle where the 2-periodic orbit turns from "
                 "elliptic to hyperbolic", value=t_star, format=".6f",
     paper="between 1.122 (stable) and 1.126 (markedly unstable)",
     note=(f"= π/2 - π/7 = {math.pi / 2 - launch_phi:.6f}; |λ| per period "

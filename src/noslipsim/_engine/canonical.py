@@ -77,7 +77,7 @@ class CanonicalForm:
         """
         q = np.asarray(q, float)
         if self.scene.lattice is None:
-            shape = q.shape[:-1] + (2,)
+            shape = (*q.shape[:-1], 2)
             return np.zeros(shape, dtype=np.int64), np.zeros(shape), q
         qc = q - self.shift if not self.identity else q
         cells = cell_of(qc, self.scene.lattice)
@@ -153,7 +153,7 @@ def reduce_basis(A):
             U = U[:, ::-1].copy()
             b1, b2 = b2, b1
         for _ in range(10_000):  # each step shortens b2 by a lattice vector: ends well before
-            mu = int(round(float(b1 @ b2) / float(b1 @ b1)))
+            mu = round(float(b1 @ b2) / float(b1 @ b1))
             if mu != 0:
                 U[:, 1] -= mu * U[:, 0]
                 b2 = _combine(A, U[:, 1])

@@ -99,7 +99,8 @@ class KernelTable:
         return self.disk_lattice and self.copies.shape == (1, 3) and not self.copies[0, 1:].any()
 
     def arrays(self):
-        """The table's arguments of the kernels, in their order: ``(kinds, params, copies, A, B, lattice, jstart, jpts)``."""
+        """The table's arguments of the kernels, in their order:
+        ``(kinds, params, copies, A, B, lattice, jstart, jpts)``."""
         return self.kinds, self.params, self.copies, self.A, self.B, self.lattice, self.jstart, self.jpts
 
 

@@ -103,7 +103,7 @@ def _survival(values, grid):
     for i, row in enumerate(flat):
         fin = np.sort(row[np.isfinite(row)])
         out[i] = 1.0 - np.searchsorted(fin, grid, side="right") / n
-    return out.reshape(values.shape[:-1] + (len(grid),))
+    return out.reshape((*values.shape[:-1], len(grid)))
 
 
 def _plateau(values, max_time, tail_span):
@@ -227,8 +227,8 @@ def arrival_curve(ds, *, times=None, n_times=N_TIMES, max_time=None, tail_span=T
     per_curve = dims
     out = xr.Dataset(
         {
-            "share_not_arrived": (dims + ("time",), surv),
-            "share_not_arrived_stderr": (dims + ("time",), np.sqrt(surv * (1.0 - surv) / n)),
+            "share_not_arrived": ((*dims, "time"), surv),
+            "share_not_arrived_stderr": ((*dims, "time"), np.sqrt(surv * (1.0 - surv) / n)),
             "n_particles": (per_curve, np.full(values.shape[:-1], n, dtype=np.int64)),
             "share_not_arrived_final": (per_curve, tail["final"]),
             "arrivals_early": (per_curve, tail["early"].astype(np.int64)),

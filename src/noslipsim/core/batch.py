@@ -20,7 +20,7 @@ F_N, F_STOP, F_CORNER, F_NREC, F_T, F_X, F_Y, F_VX, F_VY, F_W, F_CELL1, F_CELL2,
 N_FINAL = 13
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def batch_kernel(flags=GENERAL):
     """The batch loop around the orbit kernel variant ``orbit_kernel(*flags)``.
 

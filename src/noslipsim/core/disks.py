@@ -50,8 +50,16 @@ from .geometry import lattice_coordinates, lattice_shift, nearest_cell
 from .jit import SOURCE_STAMP, jit
 from .laws import collide
 from .layout import (
-    CIRCLE, NOSLIP, RECORD_LOG, RECORD_NONE, RECORD_PORTRAIT, SPECULAR, STOP_ESCAPE, STOP_LEVEL,
-    STOP_MAX_COLLISIONS, STOP_MAX_TIME,
+    CIRCLE,
+    NOSLIP,
+    RECORD_LOG,
+    RECORD_NONE,
+    RECORD_PORTRAIT,
+    SPECULAR,
+    STOP_ESCAPE,
+    STOP_LEVEL,
+    STOP_MAX_COLLISIONS,
+    STOP_MAX_TIME,
 )
 from .records import record
 from .roots import linear_exit
@@ -296,7 +304,8 @@ def disks_walk(params, copies, inside, A, B, x, y, vx, vy, cur_e, cur_o1, cur_o2
 @jit  # not inlined, as _disk_walk_far
 def _disks_walk_far(params, copies, inside, A, x, y, vx, vy, vv, ivv, cur_e, cur_o1, cur_o2, d1, d2, s1, s2, a0, b0,
                     ia, ib, ta, tb, best, bj, b1_, b2_, bx, by, t_limit, max_cells):
-    """:func:`disks_walk` from its cell ``(d1, d2)`` on, past ``INCREMENTAL_CELLS``: each copy by :func:`_line_disk_far`.
+    """:func:`disks_walk` from its cell ``(d1, d2)`` on, past ``INCREMENTAL_CELLS``: each copy by
+    :func:`_line_disk_far`.
 
     The same walk and earliest-hit rule as :func:`disks_walk`, written out
     again rather than shared: out of the common walk, this code no longer
@@ -334,7 +343,7 @@ def _disks_walk_far(params, copies, inside, A, x, y, vx, vy, vv, ivv, cur_e, cur
     return INF, 0, 0, -1, 0.0, 0.0, 2
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def disk_lattice_kernel(spin=None, mode=None):
     """The event loop for disk scatterers on a lattice without force, with :func:`loop.run_orbit`'s signature.
 
@@ -367,7 +376,7 @@ def disk_lattice_kernel(spin=None, mode=None):
     return run_disk_orbit
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _disk_loop(spin, mode, one):
     """The loop of :func:`disk_lattice_kernel` for one disk inside its cell (``one``: :func:`disk_walk`,
     compiled without the copy loop) or for any disks (:func:`disks_walk`)."""
@@ -449,7 +458,8 @@ def _disk_loop(spin, mode, one):
                 ir2 = ir * ir
                 x = p[0] + hx
                 y = p[1] + hy
-                if not ONE and not inside:  # a disk reaching into other cells: re-base onto the cell that holds the hit point
+                # a disk reaching into other cells: re-base onto the cell that holds the hit point
+                if not ONE and not inside:
                     if cur_o1 != 0 or cur_o2 != 0:
                         sx, sy = lattice_shift(A, cur_o1, cur_o2)
                         x += sx

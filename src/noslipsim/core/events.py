@@ -13,13 +13,13 @@ or quartic.
 import math
 
 from .geometry import (
+    LINE_GATE,
     copy_shift,
     crossing_coefficients,
     crossing_slope,
     distance_rate,
     element_box,
     extent_position,
-    LINE_GATE,
     line_value_exact,
     signed_distance,
 )

@@ -24,14 +24,23 @@ import math
 
 from .cells import FAR_CELLS, far_hit_point, walk_hit
 from .disks import disk_lattice_kernel
+from .energy import SETTLE_EVERY, settle, state_energy
 from .events import advance, exact_line_hit, hit_in_cell, leaves_through_contact, slides_off
 from .geometry import copy_shift, lattice_shift, nearest_cell, place_on_element
-from .energy import SETTLE_EVERY, settle, state_energy
 from .jit import SOURCE_STAMP, jit
 from .laws import collide
 from .layout import (
-    LONG_WALL, NOSLIP, RECORD_LOG, RECORD_NONE, SPECULAR, STOP_CORNER, STOP_ESCAPE, STOP_GRAZING, STOP_LEVEL,
-    STOP_MAX_COLLISIONS, STOP_MAX_TIME,
+    LONG_WALL,
+    NOSLIP,
+    RECORD_LOG,
+    RECORD_NONE,
+    SPECULAR,
+    STOP_CORNER,
+    STOP_ESCAPE,
+    STOP_GRAZING,
+    STOP_LEVEL,
+    STOP_MAX_COLLISIONS,
+    STOP_MAX_TIME,
 )
 from .records import record
 from .roots import quadratic_exit
@@ -76,7 +85,7 @@ def kernel_flags(has_force, noslip, lattice, mode, disks=False, walls=False, the
     return bool(has_force), bool(noslip), bool(lattice), int(mode), bool(disks), bool(walls), bool(thermostat)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, walls=None, thermostat=None):
     """The event loop compiled for one kind of scene: a scene pays only for what it needs.
 
@@ -285,7 +294,8 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                             vx_in, vy_in)
                 elif WALLS and p[LONG_WALL] != 0.0 and not far:  # a long line or segment: eps x distance along it
                     t_hit, px, py, vx_in, vy_in = exact_line_hit(
-                        kind, p, x - sx, y - sy, vx, vy, ax, ay, has_force, e == cur_e and o1 == cur_o1 and o2 == cur_o2,
+                        kind, p, x - sx, y - sy, vx, vy, ax, ay, has_force,
+                        e == cur_e and o1 == cur_o1 and o2 == cur_o2,
                         t_hit, rx, ry, px, py, vx_in, vy_in)
                 x = px + sx
                 y = py + sy

@@ -8,11 +8,20 @@ One module per subject of the figure pipeline: :mod:`.galton` (Figures 2, 3, S1)
 from .galton import galton_cases, galton_distribution, galton_orbits, galton_radius_sweep
 from .orbit_sets import orbit_set, phase_portrait
 from .orbits import (
-    bounce_orbits, newwedge_orbits, pentagon_orbits, specular_noslip_orbits, sphere_bounce, two_disk_box_orbits,
+    bounce_orbits,
+    newwedge_orbits,
+    pentagon_orbits,
+    specular_noslip_orbits,
+    sphere_bounce,
+    two_disk_box_orbits,
 )
 from .portraits import (
-    hex_force_portraits, lemon_sinai_portraits, polygon_portraits, portrait_set,
-    sinai_gamma_portraits, sinai_islands_sweep,
+    hex_force_portraits,
+    lemon_sinai_portraits,
+    polygon_portraits,
+    portrait_set,
+    sinai_gamma_portraits,
+    sinai_islands_sweep,
 )
 from .stability import perturbed_wedge_orbits, survival_pattern, wedge_launch_scan, wedge_periodic_orbits
 
@@ -23,8 +32,28 @@ EXPERIMENTS = {f.__name__: f for f in (
     sinai_gamma_portraits, sinai_islands_sweep, hex_force_portraits, polygon_portraits, lemon_sinai_portraits,
 )}
 
-__all__ = ["EXPERIMENTS", "galton_cases", "galton_distribution", "galton_orbits", "galton_radius_sweep", "orbit_set",
-           "phase_portrait", "bounce_orbits", "newwedge_orbits", "pentagon_orbits", "specular_noslip_orbits",
-           "sphere_bounce", "two_disk_box_orbits", "hex_force_portraits", "lemon_sinai_portraits",
-           "polygon_portraits", "portrait_set", "sinai_gamma_portraits", "sinai_islands_sweep",
-           "perturbed_wedge_orbits", "survival_pattern", "wedge_launch_scan", "wedge_periodic_orbits"]
+__all__ = [
+    "EXPERIMENTS",
+    "bounce_orbits",
+    "galton_cases",
+    "galton_distribution",
+    "galton_orbits",
+    "galton_radius_sweep",
+    "hex_force_portraits",
+    "lemon_sinai_portraits",
+    "newwedge_orbits",
+    "orbit_set",
+    "pentagon_orbits",
+    "perturbed_wedge_orbits",
+    "phase_portrait",
+    "polygon_portraits",
+    "portrait_set",
+    "sinai_gamma_portraits",
+    "sinai_islands_sweep",
+    "specular_noslip_orbits",
+    "sphere_bounce",
+    "survival_pattern",
+    "two_disk_box_orbits",
+    "wedge_launch_scan",
+    "wedge_periodic_orbits",
+]

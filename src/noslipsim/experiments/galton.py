@@ -8,10 +8,10 @@ import numpy as np
 import xarray as xr
 
 from .. import initial, tables
+from .._metadata import annotate
 from .._validate import count
 from ..core import layout
 from ..ensemble import simulate_many
-from .._metadata import annotate
 from .orbit_sets import orbit_set
 
 

@@ -13,6 +13,7 @@ by patching them here.
 """
 from __future__ import annotations
 
+import itertools
 from fractions import Fraction
 
 from .._engine.lattice import reaching_copies
@@ -183,7 +184,7 @@ def _faces_crossed(ctx, coeffs, t_end):
             cuts.insert(1, t_turn)
     total = 0
     half = ctx.mpf(0.5)
-    for t0, t1 in zip(cuts, cuts[1:]):
+    for t0, t1 in itertools.pairwise(cuts):
         u0 = c0 + t0 * (c1 + c2 * t0)
         u1 = c0 + t1 * (c1 + c2 * t1)
         total += abs(int(ctx.floor(u1 + half)) - int(ctx.floor(u0 + half)))
@@ -197,7 +198,7 @@ class _Strip:
     ``exit, step``: when and which way it leaves the strip ``[d - 1/2, d + 1/2]`` (:func:`_strip_exit`).
     """
 
-    __slots__ = ("ctx", "coeffs", "d", "exit", "step")
+    __slots__ = ("coeffs", "ctx", "d", "exit", "step")
 
     def __init__(self, ctx, coeffs, d):
         self.ctx, self.coeffs, self.d = ctx, coeffs, d
