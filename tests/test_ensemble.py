@@ -107,7 +107,7 @@ def test_boundary_starts_are_reproducible_and_on_the_boundary():
 
 
 @pytest.mark.parametrize("kwargs, field", [
-    (dict(positions=[*np.zeros((3, 2)), 1.0, 0.0], velocities=np.ones((2, 2))), "velocities"),
+    (dict(positions=np.zeros((3, 2)) + np.array([1.0, 0.0]), velocities=np.ones((2, 2))), "velocities"),
     (dict(positions=[[1.0, 0.0], [0.0, 0.0]], velocities=np.ones((2, 2))), "positions"),
     (dict(positions=[[1.0, np.nan]], velocities=[[1.0, 0.0]]), "positions"),
     (dict(positions=[[1.0, 0.0]], velocities=[[1.0, 0.0]], spins=[0.0, 1.0]), "spins"),
