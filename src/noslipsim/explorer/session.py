@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._engine.lattice import cell_of, cell_origin
-from .._validate import finite_float, finite_vector
+from .._validate import finite_float, finite_vector, positive
 from ..analysis.log_portrait import boundary_length, log_portrait, paper_portrait, portrait_elements
 from ..analysis.portraits import birkhoff_states, reduced_states
 from ..core.layout import STOP_REASONS
@@ -196,7 +196,7 @@ class Explorer:
         if not length > 0.0:
             raise ValueError("drag: give the direction by dragging from the start point")
         n = self._count(n)
-        speed = self._positive(speed, "launch speed")
+        speed = positive(speed, "launch speed")
         width = 0.01 * (self.window[1] - self.window[0]) if width is None else finite_float(width, "width")
         u = d / length
         normal = np.array([-u[1], u[0]])
@@ -222,7 +222,7 @@ class Explorer:
         the middle of the boundary.  The speed ``sqrt(|v|^2 + w^2)`` is ``speed``.
         """
         x, y = finite_float(x, "x"), finite_float(y, "y")
-        speed = self._positive(speed, "launch speed")
+        speed = positive(speed, "launch speed")
         chosen = portrait_elements(self.scene)
         total = boundary_length(self.scene)
         if self.portrait == "birkhoff":
@@ -246,13 +246,6 @@ class Explorer:
         if n > self.limits.max_beam:
             raise ValueError(f"particles: at most {self.limits.max_beam} per launch, asked for {n}")
         return int(n)
-
-    @staticmethod
-    def _positive(value, name):
-        x = finite_float(value, name)
-        if not x > 0.0:
-            raise ValueError(f"{name}: must be > 0, got {x}")
-        return x
 
     def _launch(self, starts):
         free = self.limits.max_orbits - len(self.orbits)
