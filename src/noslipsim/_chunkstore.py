@@ -23,6 +23,8 @@ import uuid
 import numpy as np
 import xarray as xr
 
+from ._netcdf import write_netcdf_atomically
+
 #: Name of the run description in a chunk folder.
 MANIFEST = "run.json"
 #: Global attributes that belong to one chunk file, not to the dataset they make together.
@@ -85,15 +87,7 @@ def write_chunk(ds, folder, start, stop, inputs):
     path = chunk_path(folder, start, stop)
     ds = ds.copy()
     ds.attrs.update(chunk_inputs=inputs, chunk_orbits=[start, stop])
-    tmp = os.path.join(os.path.dirname(path), f".tmp-{uuid.uuid4().hex}.nc")
-    try:
-        with _WRITE_LOCK:
-            ds.to_netcdf(tmp, engine="netcdf4")
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
+    write_netcdf_atomically(ds, path, _WRITE_LOCK)
     return path
 
 

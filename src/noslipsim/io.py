@@ -8,7 +8,6 @@ import os
 import platform
 import subprocess
 import sys
-import tempfile
 from collections.abc import Mapping
 from importlib import metadata
 from pathlib import Path
@@ -18,6 +17,7 @@ import numpy as np
 import xarray as xr
 
 from ._metadata import annotate
+from ._netcdf import write_netcdf_atomically
 from ._version import __version__
 
 REFERENCES = ("J. Ahmed, T. Chumley, S. Cook, C. Cox, H. Grant, N. Petela, B. Rothrock, R. Xhafaj: "
@@ -120,16 +120,6 @@ def describe(ds: xr.Dataset, *, title: str | None = None, config: Mapping[str, A
     return ds
 
 
-def _umask():
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
-#: Permissions of a written dataset: those of a file created with ``open`` under the umask.
-_CREATE_MODE = 0o666 & ~_umask()
-
-
 def write_dataset(ds: xr.Dataset, path: str | os.PathLike, *, title: str | None = None,
                   config: Mapping[str, Any] | None = None, history: str | None = None) -> xr.Dataset:
     """Write ``ds`` to netCDF at ``path`` atomically (temporary file, then rename).
@@ -137,19 +127,7 @@ def write_dataset(ds: xr.Dataset, path: str | os.PathLike, *, title: str | None 
     Returns the dataset as written (with its global attributes).
     """
     ds = describe(ds, title=title, config=config, history=history)
-    path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".nc", dir=folder)
-    os.close(fd)
-    try:
-        ds.to_netcdf(tmp, engine="netcdf4")
-        os.chmod(tmp, _CREATE_MODE)  # mkstemp makes the file private; a dataset is as readable as any new file
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
+    write_netcdf_atomically(ds, path)
     return ds
 
 
