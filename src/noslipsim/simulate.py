@@ -99,7 +99,8 @@ def simulate(scene: Scene, position: ArrayLike, velocity: ArrayLike, spin: float
         ``vx_in, vy_in, spin_in`` just before, ``element``, ``s``, ``corner`` and
         ``energy``; scalars ``*_final`` (the state where the orbit ended) and
         ``n_collisions``; attribute ``stop_reason`` (``max_collisions``,
-        ``max_time``, ``escape``, ``stop_below``, ``corner`` or ``grazing``).
+        ``max_time``, ``escape``, ``stop_below``, ``corner``, ``grazing`` or
+        ``search_limit``; docs/datasets.md).
     """
     if not isinstance(scene, Scene):
         raise ValueError(f"scene: expected a noslipsim.Scene, got {type(scene).__name__}")

@@ -12,6 +12,7 @@ from .islands import (
     islands_onsets,
     onset_gamma,
     regular_share,
+    twin_lyapunov,
     uniform_reduced_states,
 )
 from .lyapunov import lyapunov
@@ -34,6 +35,6 @@ __all__ = [
     "birkhoff_states", "bounce_orbit", "boundary_coordinate", "classify_regular", "find_periodic_orbit",
     "finite_time_lyapunov", "head_on_onset_gamma", "interior_starts", "islands_onsets", "lyapunov",
     "monodromy", "onset_gamma", "reduced_portrait", "reduced_states", "regular_share", "stability_grid",
-    "stability_grid_theta", "two_disk_orbit", "uniform_reduced_states", "velocity_portrait",
+    "stability_grid_theta", "twin_lyapunov", "two_disk_orbit", "uniform_reduced_states", "velocity_portrait",
     "wedge_noforce_orbit", "wedge_orbit",
 ]

@@ -16,7 +16,9 @@ This module turns the judgement into a measured number.
    Benettin's method on the exact tangent dynamics
    (:func:`noslipsim.analysis.lyapunov.lyapunov_run`) over ``N`` collisions.
    A chaotic orbit gives a value of order one; an orbit on an invariant torus
-   (an elliptic island) one that decays like ``log N / N``.
+   (an elliptic island) one that decays like ``log N / N``.  For flights
+   without a tangent map (the isokinetic thermostat) :func:`twin_lyapunov`
+   measures the same exponent from a renormalised twin orbit.
 3. **Regular share** (:func:`regular_share`): the share of starts whose
    exponent lies below :data:`REGULAR_THRESHOLD`, with its binomial standard
    error ``sqrt(p (1 - p) / n)``,
@@ -57,6 +59,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from .._engine.lattice import cell_of, cell_origin
 from .._metadata import annotate
 from .._validate import count, positive
 from ..elements import Arc, Circle, Segment
@@ -75,6 +78,7 @@ __all__ = [
     "interior_starts",
     "onset_gamma",
     "regular_share",
+    "twin_lyapunov",
     "uniform_reduced_states",
 ]
 
@@ -89,6 +93,14 @@ VISIBLE_SHARE = 0.01
 
 #: Starts whose first flight is shorter than this (in time) are grazing; they are redrawn.
 MIN_FLIGHT = 1e-9
+
+#: Twin orbits (:func:`twin_lyapunov`): the separation a twin starts at and is renormalised to
+#: (state ``(x, y, v_x, v_y, w)``, lengths and speeds of order one; far above rounding, 1e-16,
+#: and with room for the growth of a block), the collisions between two renormalisations, and
+#: the separation past which a twin no longer follows the linearised map (it is then replaced).
+TWIN_SEPARATION = 1e-10
+TWIN_BLOCK = 4
+TWIN_NONLINEAR = 1e-4
 
 
 def _scene(scene):
@@ -266,6 +278,127 @@ def finite_time_lyapunov(scene: Scene, positions, velocities, spins=None, *, n_c
         return np.array([_one_ftle(scene, q[i], v[i], w[i], n_collisions) for i in range(len(q))])
     with ThreadPoolExecutor(num_workers) as pool:
         return np.array(list(pool.map(lambda i: _one_ftle(scene, q[i], v[i], w[i], n_collisions), range(len(q)))))
+
+
+def _last_states(ds, rows):
+    """``(state (n, 5), element (n,), collisions (n,))`` after the last collision of each orbit of a log."""
+    n = ds.n_collisions.values[rows]
+    last = np.maximum(n - 1, 0)
+    take = lambda name: ds[name].values[rows, last]   # noqa: E731
+    state = np.column_stack([take("x"), take("y"), take("vx"), take("vy"), take("spin")])
+    return state, take("element"), n
+
+
+def twin_lyapunov(scene: Scene, positions, velocities, spins=None, *, n_collisions=2000, block=TWIN_BLOCK,
+                  separation=TWIN_SEPARATION, seed=0, num_workers=None):
+    r"""Finite-time largest Lyapunov exponent per collision from a twin orbit, for any flight type.
+
+    Benettin's method without a tangent map: beside each orbit runs a twin
+    started ``delta_0 =`` ``separation`` away in the state ``u = (x, y, v_x,
+    v_y, w)`` (random direction).  Every ``block`` collisions both are compared
+    just after their collision of the same number (a point of the billiard
+    map), the separation ``delta_k = |u_twin - u|`` is recorded and the twin is
+    put back at ``u + delta_0 (u_twin - u) / delta_k`` on the same element,
+    the step that keeps it in the linear regime and turns its offset towards
+    the most expanding direction:
+
+    .. math::
+
+        \lambda^{(N)} = \frac{1}{N} \sum_k \log \frac{\delta_k}{\delta_0} .
+
+    It agrees with :func:`finite_time_lyapunov` (the exact tangent dynamics)
+    where both apply, to a few 1e-3 per collision after a few hundred
+    collisions (tests/test_islands.py), and it needs nothing but the orbits, so it
+    serves the isokinetic thermostat too (:class:`noslipsim.Scene` ``thermostat``),
+    whose tangent map the package does not have.  A twin that parts from the
+    orbit by more than :data:`TWIN_NONLINEAR` (a corner or a grazing hit that
+    splits the two, or a block with a growth beyond the linear regime) counts
+    that block as ``log(TWIN_NONLINEAR / delta_0)``, a lower bound of the
+    growth, and a fresh twin starts from the orbit.
+
+    Parameters
+    ----------
+    scene : Scene
+        Any table, law, force and flight type.
+    positions, velocities : array_like (n, 2)
+        Interior starts (see :func:`interior_starts`).
+    spins : array_like (n,), optional
+        Scaled spins (zeros by default).
+    n_collisions : int
+        Collisions per orbit (``N``; at least ``block``), rounded up to whole blocks.
+    block : int
+        Collisions between two renormalisations (``>= 1``).
+    separation : float
+        ``delta_0`` (> 0, at most ``TWIN_NONLINEAR / 100``).
+    seed : int
+        Seed of the twins' directions.
+    num_workers : int, optional
+        Threads of :func:`noslipsim.simulate_many` (default: one per core).  The
+        result does not depend on it.
+
+    Returns
+    -------
+    numpy.ndarray (n,)
+        ``lambda^(N)``; NaN for an orbit (or its twin) that stops before ``N``
+        collisions (escape, corner, grazing, search limit).
+    """
+    scene = _scene(scene)
+    q = np.asarray(positions, dtype=float)
+    v = np.asarray(velocities, dtype=float)
+    w = np.zeros(len(q)) if spins is None else np.asarray(spins, dtype=float)
+    if q.ndim != 2 or q.shape[1] != 2 or v.shape != q.shape or w.shape != (len(q),):
+        raise ValueError(f"positions, velocities, spins: expected shapes (n, 2), (n, 2), (n,), got "
+                         f"{q.shape}, {v.shape}, {w.shape}")
+    block = count(block, "block")
+    n_collisions = count(n_collisions, "n_collisions", minimum=block)
+    separation = positive(separation, "separation")
+    if separation > TWIN_NONLINEAR / 100:
+        raise ValueError(f"separation: must be at most {TWIN_NONLINEAR / 100:g} (TWIN_NONLINEAR / 100), "
+                         f"got {separation}")
+    n = len(q)
+    rng = rng_from(seed)
+
+    def fresh(ref):
+        u = rng.normal(size=ref.shape)
+        return ref + separation * u / np.linalg.norm(u, axis=1, keepdims=True)
+
+    ref = np.column_stack([q, v, w])
+    twin = fresh(ref)
+    el_ref = np.full(n, -1, dtype=np.int64)
+    el_twin = np.full(n, -1, dtype=np.int64)
+    growth = np.zeros(n)
+    alive = np.ones(n, dtype=bool)
+    done = 0
+    cap = math.log(TWIN_NONLINEAR / separation)
+    while done < n_collisions and alive.any():
+        idx = np.flatnonzero(alive)
+        m = len(idx)
+        both = np.concatenate([ref[idx], twin[idx]])
+        ds = simulate_many(scene, both[:, :2], both[:, 2:4], both[:, 4],
+                           start_elements=np.concatenate([el_ref[idx], el_twin[idx]]), max_collisions=block,
+                           record="log", scheduler="numba" if m > 1 else "sync", progress=False,
+                           num_workers=num_workers)
+        a, ea, na = _last_states(ds, np.arange(m))
+        b, eb, nb = _last_states(ds, np.arange(m, 2 * m))
+        if scene.lattice is not None:  # back to the base cell (boundary starts lie there), the same shift for both
+            origin = cell_origin(cell_of(a[:, :2], scene.lattice), scene.lattice)
+            a[:, :2] -= origin
+            b[:, :2] -= origin
+        full = (na == block) & (nb == block)
+        alive[idx[~full]] = False
+        d = np.linalg.norm(b - a, axis=1)
+        linear = full & (ea == eb) & np.isfinite(d) & (d < TWIN_NONLINEAR) & (d > 0.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            growth[idx] += np.where(linear, np.log(d / separation), cap)
+        ref[idx] = a
+        el_ref[idx] = np.where(full, ea, -1).astype(np.int64)
+        renorm = a + (b - a) * (separation / np.where(linear, d, 1.0))[:, None]
+        twin[idx] = np.where(linear[:, None], renorm, fresh(a))
+        el_twin[idx] = el_ref[idx]
+        done += block
+    out = growth / done
+    out[~alive] = np.nan
+    return out
 
 
 def regular_share(ftle, threshold=REGULAR_THRESHOLD, axis=-1):

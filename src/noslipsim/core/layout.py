@@ -56,7 +56,10 @@ STOP_ESCAPE = 2
 STOP_LEVEL = 3
 STOP_CORNER = 4
 STOP_GRAZING = 5
-STOP_REASONS = ("max_collisions", "max_time", "escape", "stop_below", "corner", "grazing")
+#: A thermostatted flight's circle search took ``thermo_events.MAX_STEPS`` conservative steps without
+#: deciding whether the circle is hit: the orbit stops there rather than fly on past a possible hit.
+STOP_SEARCH_LIMIT = 6
+STOP_REASONS = ("max_collisions", "max_time", "escape", "stop_below", "corner", "grazing", "search_limit")
 
 #: What the event loop records per collision.
 RECORD_NONE = 0      # nothing: the final state is returned anyway

@@ -41,9 +41,11 @@ from .layout import (
     STOP_LEVEL,
     STOP_MAX_COLLISIONS,
     STOP_MAX_TIME,
+    STOP_SEARCH_LIMIT,
 )
 from .records import record
 from .roots import quadratic_exit
+from .thermo_events import SEARCH_FAILED
 from .thermo_events import exact_line_hit as thermo_exact_line_hit
 from .thermo_events import hit_in_cell as thermo_hit_in_cell
 from .thermo_events import line_exit as thermo_line_exit
@@ -243,6 +245,9 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                         t_hit, e, o1, o2 = thermo_hit_in_cell(kinds, params, copies, A, 0, 0, fl, E, cur_e, cur_o1,
                                                               cur_o2, INF, extent_tol, 0.0, False)
                         escape = e < 0
+                    if e == SEARCH_FAILED:  # the circle search gave up: stop here, never fly past a hit
+                        stop = STOP_SEARCH_LIMIT
+                        break
                 elif lattice:
                     limit = min(remaining, t_level)
                     t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay,

@@ -51,8 +51,14 @@ EPS = 2.220446049250313e-16
 
 #: Conservative steps one circle search may take before it gives up (never reached in the tests and
 #: benchmarks: a step is at least a fixed share of the remaining distance, or the search is at a
-#: tangency, which ends it).
+#: tangency, which ends it).  Giving up is not "no hit": the search returns :data:`GAVE_UP`, the
+#: cell search the element :data:`SEARCH_FAILED`, the cell walk the status 3, and the event loop
+#: stops the orbit with ``layout.STOP_SEARCH_LIMIT`` ("search_limit") where it stands.
 MAX_STEPS = 100_000
+#: The time :func:`round_hit` (and :func:`element_hit`) returns when it gave up after MAX_STEPS steps.
+GAVE_UP = -1.0
+#: The element :func:`hit_in_cell` (and :func:`walk_hit`) returns when a search in it gave up.
+SEARCH_FAILED = -2
 #: Bracket doublings for the last, unbounded piece of a line (each doubles the time window).
 MAX_DOUBLINGS = 2100
 
@@ -355,7 +361,8 @@ def round_hit(kind, p, fl, sx, sy, lo, hi, deflate, extent_tol, E):
     """First exit root in ``(lo, hi]`` of a circle or arc copy (shifted by ``(sx, sy)``) within its extent, or inf.
 
     Conservative steps between the quadratic bounds of the module docstring;
-    ``deflate`` (with ``lo = 0``): the copy was just hit at ``t = 0``.
+    ``deflate`` (with ``lo = 0``): the copy was just hit at ``t = 0``.  After
+    :data:`MAX_STEPS` steps without a decision: :data:`GAVE_UP` (negative).
     """
     cx = p[0] + sx
     cy = p[1] + sy
@@ -431,13 +438,16 @@ def round_hit(kind, p, fl, sx, sy, lo, hi, deflate, extent_tol, E):
             step = max(4.0 * EPS * a, EPS * dn / c)
         a += step
         dx, dy, vx, vy, lam, G, G1 = _round_at(fl, cx, cy, sig, r, a)
-    return INF
+    return GAVE_UP  # undecided: the caller must not read this as "no hit"
 
 
 # ---------------------------------------------------------------------------- elements, cells, lattices
 @jit
 def element_hit(kind, p, fl, sx, sy, deflate, lo, hi, extent_tol, E):
-    """First time in ``(lo, hi]`` at which the thermostatted flight leaves the table through this copy, or inf."""
+    """First time in ``(lo, hi]`` at which the thermostatted flight leaves the table through this copy, or inf.
+
+    :data:`GAVE_UP` (negative) when a circle search ran out of steps (:func:`round_hit`).
+    """
     if kind == LINE or kind == SEGMENT:
         nx = p[2]
         ny = p[3]
@@ -457,8 +467,8 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, fl, E, cur_e, cur_o1, cur_o2, 
 
     The copy just hit is searched from ``t = 0`` with its root there removed.
     Copies out of reach in the window (farther than ``c (hi - t_in)`` from
-    the position at ``t_in``) are skipped.  Returns ``(t, element, o1, o2)``
-    or ``(inf, -1, 0, 0)``.
+    the position at ``t_in``) are skipped.  Returns ``(t, element, o1, o2)``,
+    ``(inf, -1, 0, 0)`` (no hit) or ``(GAVE_UP, SEARCH_FAILED, 0, 0)`` (a search gave up).
     """
     bounded = hi < INF
     xi = 0.0
@@ -485,6 +495,8 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, fl, E, cur_e, cur_o1, cur_o2, 
                         or ey0 + sy > yi + reach or ey1 + sy < yi - reach):
                     continue
             t = element_hit(kinds[e], params[e], fl, sx, sy, False, t_in, best_t, extent_tol, E)
+        if t < 0.0:  # a search gave up: the earliest hit is unknown
+            return GAVE_UP, SEARCH_FAILED, 0, 0
         if t < best_t or (best_e < 0 and t == best_t and t < INF):
             best_t = t
             best_e = e
@@ -502,7 +514,7 @@ def walk_hit(kinds, params, copies, A, B, fl, E, cur_e, cur_o1, cur_o2, t_limit,
     The lattice coordinates ``alpha(t) = B[0] . q(t)``, ``beta(t) = B[1] . q(t)``
     are line functionals of the path: each strip exit is a :func:`face_exit`.
     Returns ``(t, element, o1, o2, status)``, status 0 hit, 1 past ``t_limit``,
-    2 past ``max_cells`` cells.
+    2 past ``max_cells`` cells, 3 a circle search gave up (:data:`MAX_STEPS`).
     """
     a0, b0 = lattice_coordinates(B, fl[0], fl[1])
     d1 = 0
@@ -516,6 +528,8 @@ def walk_hit(kinds, params, copies, A, B, fl, E, cur_e, cur_o1, cur_o2, t_limit,
                                    extent_tol, t_in, True)
         if e >= 0:
             return t, e, o1, o2, 0
+        if e == SEARCH_FAILED:
+            return GAVE_UP, SEARCH_FAILED, 0, 0, 3
         if t_out >= t_limit:
             return INF, -1, 0, 0, 1
         if ta == t_out:

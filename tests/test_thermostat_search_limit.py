@@ -1,0 +1,92 @@
+"""A thermostatted circle search that runs out of steps stops the orbit by name, never silently.
+
+``thermo_events.round_hit`` advances by conservative steps; after ``MAX_STEPS`` (100,000; never
+reached by a real flight in the tests and benchmarks) it used to return ``inf``, "no hit", and
+the orbit flew on through the circle.  Now each layer says that it gave up: ``round_hit`` and
+``element_hit`` return ``GAVE_UP``, ``hit_in_cell`` the element ``SEARCH_FAILED``, ``walk_hit`` the
+status 3, and the event loop stops with ``search_limit`` (stop code 6).
+
+The limit is a compile-time constant, so the tests run the kernels' Python source
+(``py_func``, with the module's globals patched: a step limit of 1, the inner searches as Python)
+on a flight that needs several steps to reach a disk.
+"""
+import math
+
+import numpy as np
+import pytest
+
+from noslipsim import tables
+from noslipsim._engine.table import kernel_table
+from noslipsim.core import layout, loop, thermo_events
+from noslipsim.core.thermostat import flight
+from noslipsim.core.tolerances import EXTENT_TOL, MAX_CELLS_PER_FLIGHT
+
+FIELD = (0.0, -1.0)
+START = (-0.45, 0.5, 1.0, 0.0)   # above left of the disk of radius 0.4, flying sideways: the field bends it onto it
+
+
+def _scene(lattice):
+    make = tables.hex_lorentz_cell if lattice else tables.closed_hex_cell
+    return make(0.4, force=FIELD).replace(thermostat="isokinetic")
+
+
+def _disk_search(table, fl, *, py):
+    disk = len(table.kinds) - 1
+    hit = thermo_events.round_hit
+    hit = getattr(hit, "py_func", hit) if py else hit
+    return hit(table.kinds[disk], table.params[disk], fl, 0.0, 0.0, 0.0, math.inf, False,
+               EXTENT_TOL * table.scale, math.hypot(*FIELD))
+
+
+@pytest.fixture
+def one_step(monkeypatch):
+    """The kernels' Python source with a step limit of 1: every layer calls the others as Python."""
+    monkeypatch.setattr(thermo_events, "MAX_STEPS", 1)
+    for name in ("round_hit", "element_hit", "hit_in_cell"):
+        monkeypatch.setattr(thermo_events, name, getattr(thermo_events, name).py_func)
+
+
+def test_the_search_finds_the_disk_and_its_python_source_agrees():
+    """The flight of the tests needs more than one step; compiled and Python source give the same time."""
+    table = kernel_table(_scene(False))
+    fl = flight(*START, *FIELD)
+    t = _disk_search(table, fl, py=False)
+    assert 0.0 < t < math.inf
+    assert _disk_search(table, fl, py=True) == t
+
+
+def test_a_search_out_of_steps_says_so_at_every_layer(one_step):
+    table = kernel_table(_scene(False))
+    fl = flight(*START, *FIELD)
+    E = math.hypot(*FIELD)
+    tol = EXTENT_TOL * table.scale
+    assert _disk_search(table, fl, py=True) == thermo_events.GAVE_UP < 0.0
+    disk = len(table.kinds) - 1
+    assert thermo_events.element_hit(table.kinds[disk], table.params[disk], fl, 0.0, 0.0, False, 0.0, math.inf,
+                                     tol, E) == thermo_events.GAVE_UP
+    kinds, params, copies, A, B = table.arrays()[:5]
+    t, e, *_cell = thermo_events.hit_in_cell(kinds, params, copies, A, 0, 0, fl, E, -1, 0, 0, math.inf, tol, 0.0,
+                                             False)
+    assert (t, e) == (thermo_events.GAVE_UP, thermo_events.SEARCH_FAILED)
+    lattice = kernel_table(_scene(True))
+    kinds, params, copies, A, B = lattice.arrays()[:5]
+    got = thermo_events.walk_hit.py_func(kinds, params, copies, A, B, fl, E, -1, 0, 0, math.inf, tol,
+                                         MAX_CELLS_PER_FLIGHT)
+    assert got[1] == thermo_events.SEARCH_FAILED and got[4] == 3
+
+
+def test_the_event_loop_stops_with_search_limit(monkeypatch):
+    """The loop's Python source with a cell search that gives up: stop code 6 where the orbit stands."""
+    monkeypatch.setattr(loop, "thermo_hit_in_cell",
+                        lambda *args: (thermo_events.GAVE_UP, thermo_events.SEARCH_FAILED, 0, 0))
+    scene = _scene(False)
+    table = kernel_table(scene)
+    run = loop.orbit_kernel(*table.variant(layout.RECORD_NONE)).py_func
+    x, y, vx, vy = START
+    out = run(*table.arrays(), table.law, table.c, table.s, table.ax, table.ay, table.thermostat, x, y, vx, vy, 0.1,
+              10, math.inf, -math.inf, table.scale, layout.RECORD_NONE, np.zeros((0, 0)),
+              np.zeros(len(table.kinds), dtype=np.bool_), -1)
+    n, stop = out[0], out[1]
+    assert (n, stop) == (0, layout.STOP_SEARCH_LIMIT)
+    assert layout.STOP_REASONS[stop] == "search_limit"
+    assert out[5:9] == (x, y, vx, vy)     # the state where the search gave up, not one flown past a hit
