@@ -8,7 +8,10 @@ import pytest
 from noslipsim import Scene, simulate, tables
 from noslipsim.analysis import islands
 from noslipsim.experiments import (
+    HEX_READINGS,
     hex_force_portraits,
+    hex_force_readings,
+    hex_reading_scene,
     lemon_sinai_portraits,
     polygon_portraits,
     portrait_set,
@@ -131,6 +134,52 @@ def test_hex_force_energy_grows_in_the_periodic_gas_and_stays_bounded_in_the_clo
     assert np.median(periodic) > 5 * np.median(closed)                      # the particle falls through the gas
     with pytest.raises(ValueError, match="forces"):
         hex_force_portraits(forces=(-1.0,))
+    with pytest.raises(ValueError, match="reading"):
+        hex_force_portraits(reading="closed box")
+
+
+def test_hex_readings_are_the_tables_they_claim():
+    for reading in HEX_READINGS:
+        scene, disk = hex_reading_scene(reading, 0.4, 1.0, 2.0)
+        assert scene.elements[disk].radius == 0.4 and scene.force == (0.0, -2.0)
+        assert (scene.lattice is None) == (reading in ("closed", "specular"))
+        assert scene.law == ("specular" if reading == "specular" else "no-slip")
+        assert (scene.thermostat == "isokinetic") == (reading == "thermostat")
+    assert hex_reading_scene("periodic", 0.4, 1.0, 0.0)[0].force == (0.0, 0.0)
+
+
+def test_thermostatted_portrait_keeps_the_speed_between_collisions_and_records_the_disk():
+    """Figure 13's reading: the kinetic energy (|v|^2 + w^2)/2 is kept exactly by the thermostat and the law."""
+    ds = hex_force_portraits(gammas=(1.0,), forces=(0.0, 4.0), reading="thermostat", n_orbits=4, n_collisions=300,
+                             lyapunov_collisions=40, energy_collisions=20)
+    assert ds.attrs["reading"] == "thermostat" and np.isfinite(ds.ftle).all()
+    assert set(np.unique(ds.element.values[np.isfinite(ds.element.values)])) == {0.0}   # the disk of the lattice
+    check_portrait_values(ds)
+    scene = Scene.from_dict(json.loads(str(ds.scene.sel(force=4.0).item())))
+    assert scene.thermostat == "isokinetic" and scene.lattice is not None
+    st = islands.uniform_reduced_states(scene, 3, seed=0, elements=[0])
+    for i in range(3):
+        o = simulate(scene, st["positions"][i] * 1.001, st["velocities"][i], st["spins"][i], max_collisions=400)
+        kin = 0.5 * (o.vx.values ** 2 + o.vy.values ** 2 + o.spin.values ** 2)
+        assert np.ptp(kin) < 1e-12
+
+
+def test_hex_force_readings_tiny_and_what_tells_them_apart():
+    """The sweep's layout; the specular table does not depend on gamma; at a strong field the thermostatted
+    gas settles on regular attractors (negative or zero exponents) where the specular cell stays chaotic."""
+    ds = hex_force_readings(gammas=(0.5, 1.0), forces=(0.0, 16.0), readings=("specular", "thermostat"), n_orbits=6,
+                            lyapunov_collisions=600, seed=1)
+    assert ds.ftle.dims == ("reading", "gamma", "force", "orbit") and ds.sizes["orbit"] == 6
+    assert ds.reading_table.values.tolist() == [HEX_READINGS["specular"], HEX_READINGS["thermostat"]]
+    spec = ds.ftle.sel(reading="specular")
+    np.testing.assert_array_equal(spec.sel(gamma=0.5), spec.sel(gamma=1.0))
+    assert (spec > islands.REGULAR_THRESHOLD).all()                  # dispersing: no islands, with or without force
+    strong = ds.ftle.sel(reading="thermostat", gamma=1.0, force=16.0)
+    assert islands.regular_share(strong.values)[0] >= 0.8           # measured 0.95 over 40 orbits
+    for bad in ({"readings": ("closed", "closed")}, {"readings": ("box",)}, {"forces": (0.0, 0.0)},
+                {"n_orbits": 0}):
+        with pytest.raises(ValueError):
+            hex_force_readings(**bad)
 
 
 def test_islands_sweep_shares_agree_with_its_exponents_and_the_theory():

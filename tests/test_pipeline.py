@@ -186,10 +186,20 @@ def check_portraits_sinai_gamma(ds):
 
 def check_portraits_hex_force(ds):
     check_portraits(ds)
-    assert set(np.unique(ds.element.values[np.isfinite(ds.element.values)])) == {6.0}   # the disk only
+    disk = 6.0 if ds.attrs["reading"] in ("closed", "specular") else 0.0
+    assert set(np.unique(ds.element.values[np.isfinite(ds.element.values)])) == {disk}   # the disk only
     assert ds.cell.values.tolist() == ["closed", "periodic"]
     bound = 0.5 + ds.force * 2 / np.sqrt(3)                # kinetic energy in the closed cell, from E
     assert (ds.kinetic_final.sel(cell="closed") <= bound + TOL).all()
+
+
+def check_portraits_hex_readings(ds):
+    assert ds.ftle.dims == ("reading", "gamma", "force", "orbit")
+    assert set(ds.reading.values) <= {"closed", "specular", "periodic", "thermostat"}
+    assert np.isfinite(ds.ftle).mean() > 0.9                # NaN only for an orbit that stopped (corner)
+    if "specular" in ds.reading.values:                     # gamma plays no part in a specular table
+        spec = ds.ftle.sel(reading="specular")
+        np.testing.assert_array_equal(spec.isel(gamma=0), spec.isel(gamma=-1))
 
 
 def check_portraits_islands(ds):
@@ -228,6 +238,7 @@ DATASET_CHECKS = {
     "portraits/sinai_gamma.nc": check_portraits_sinai_gamma,
     "portraits/islands.nc": check_portraits_islands,
     "portraits/hex_force.nc": check_portraits_hex_force,
+    "portraits/hex_readings.nc": check_portraits_hex_readings,
 }
 
 
@@ -364,7 +375,7 @@ def test_a_classification_threshold_redraws_without_rerunning_a_simulation(repo)
     cfg.write_text(key.sub(lambda m: m.group(1) + str(2 * float(m.group(2))), text, count=1))
     try:
         assert planned_jobs(repo) == {"fig10_phaseportraits": 1, "fig12_lorentzgamma": 1, "fig13_VPPforce": 1,
-                                      "numbers_portraits": 1, "numbers": 1, "all": 1}
+                                      "figS3_hex_readings": 1, "numbers_portraits": 1, "numbers": 1, "all": 1}
     finally:
         cfg.write_text(text)
 

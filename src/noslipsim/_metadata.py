@@ -91,8 +91,11 @@ VARIABLES = {
     "force_x": ("force per unit mass, x component", "1"),
     "force_y": ("force per unit mass, y component", "1"),
     "sides": ("number of sides of the polygon", "1"),
-    "cell": ("closed: hexagonal cell with no-slip walls (the figure's table); periodic: the hexagonal Lorentz gas",
+    "cell": ("closed: hexagonal cell with no-slip walls; periodic: the hexagonal Lorentz gas (both free fall)",
              "1"),
+    "reading": ("a reading of Figure 13's table (closed, specular, periodic, thermostat; "
+                "experiments.HEX_READINGS)", "1"),
+    "reading_table": ("the table, collision law and flight of the reading", "1"),
     "s_boundary": ("arclength along the boundary (chosen elements end to end, scene order)", "1"),
     "sin_angle": ("Birkhoff p: sine of the exit angle to the inward normal, positive along increasing s "
                   "(NaN: not specular)", "1"),

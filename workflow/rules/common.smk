@@ -32,7 +32,8 @@ def stability_common():
 # Kernel variants each subject's simulations run, compiled by rule compile_kernel (one job per
 # variant) before the simulation jobs fan out, so that parallel jobs never compile one variant twice.
 # An entry is "table:law:record": table in {plain, plain+force, walls+force, lattice, lattice+force,
-# disks} (disks: disk scatterers on a lattice, no force), law in {no-slip, specular}, record in
+# lattice+thermostat, disks} (disks: disk scatterers on a lattice, no force; lattice+thermostat: a lattice
+# under a force flown with the isokinetic thermostat), law in {no-slip, specular}, record in
 # {none, log, portrait}: none for simulate_many's final states and counts, log for simulate() and
 # full collision logs (one kernel), portrait for phase-portrait points.
 KERNELS = {
@@ -42,11 +43,15 @@ KERNELS = {
     "stability": ["walls+force:no-slip:log", "walls+force:no-slip:none", "plain:no-slip:log", "plain:no-slip:none"],
     # the rectangle and polygons; the bouncing ball (half-plane) and the wedges of Figure 6 under gravity
     "orbits": ["plain:specular:log", "plain:no-slip:log", "walls+force:no-slip:log"],
-    # portraits (lemon, polygons, closed hexagonal cell), first flights (none), Lyapunov runs (log);
-    # the Sinai torus and the force-free hexagonal gas are "disks", the hexagonal gas under a force "lattice+force"
+    # portraits (lemon, polygons, closed hexagonal cell), first flights (none), Lyapunov runs and twin
+    # orbits (log); the Sinai torus and the force-free hexagonal gas are "disks", the hexagonal gas under a
+    # force "lattice+force" (free fall) or "lattice+thermostat" (Figure 13's readings, Figure S3)
     "portraits": [f"{table}:{law}:{record}" for table, law in (("plain", "specular"), ("plain", "no-slip"),
-                                                                ("plain+force", "no-slip"), ("disks", "no-slip"))
-                  for record in ("portrait", "none", "log")] + ["lattice+force:no-slip:none"],
+                                                                ("plain+force", "no-slip"),
+                                                                ("plain+force", "specular"), ("disks", "no-slip"),
+                                                                ("lattice+force", "no-slip"),
+                                                                ("lattice+thermostat", "no-slip"))
+                  for record in ("portrait", "none", "log")],
 }
 ALL_KERNELS = sorted({entry for entries in KERNELS.values() for entry in entries})
 
@@ -101,7 +106,7 @@ DATASETS = {
     # Figures 10-13
     **{f"portraits_{name}": dataset("portraits", f"{name}.nc", "portraits", f"portraits_{name}",
                                     (lambda name=name: {"run": section(f"portraits.{name}")}), ENSEMBLE)
-       for name in ("phaseportraits", "polygons", "sinai_gamma", "hex_force")},
+       for name in ("phaseportraits", "polygons", "sinai_gamma", "hex_force", "hex_readings")},
     # Lyapunov exponents orbit after orbit (one thread: the Benettin loop holds the GIL)
     "portraits_islands": dataset("portraits", "islands.nc", "islands", "portraits_islands",
                                  lambda: {"run": section("portraits.islands", without=("level",))}),
@@ -159,6 +164,8 @@ FIGURES = {
                             lambda: {"sketch": section("stability.grids.sketch")}),
     "fig16_3dbounce": figure("Orbits", {"sphere": "orbits_sphere"}),
     "figS1_galton_trapping": figure("Galton board", {"arrivals": "galton_arrivals", "sweep": "galton_radius_sweep"}),
+    "figS3_hex_readings": figure("Phase portraits", {"readings": "portraits_hex_readings",
+                                                     "portraits": "portraits_hex_force"}, THRESHOLD),
 }
 
 
@@ -181,7 +188,8 @@ NUMBERS = {
                         lambda: {"band": config["stability"]["grids"]["threshold_band"],
                                  "min_run": config["stability"]["grids"]["min_run"],
                                  "thetas": config["stability"]["launch"]["thetas"]}),
-    "portraits": figure(None, {"islands": "portraits_islands"}, ONSETS),
+    "portraits": figure(None, {"islands": "portraits_islands", "hex_force": "portraits_hex_force",
+                               "hex_readings": "portraits_hex_readings"}, ONSETS),
 }
 
 

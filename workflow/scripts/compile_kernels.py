@@ -26,6 +26,9 @@ TABLES = {
     "lattice": lambda law: (tables.sinai_torus(0.25, law=law).replace(
         elements=(*tables.sinai_torus(0.25).elements, ns.Circle((0.5, 0.5), 0.1))), (0.3, 0.1)),
     "lattice+force": lambda law: (tables.galton_board(2.0, 0.5, law=law), (1.0, 0.5)),
+    # the hexagonal Lorentz gas driven by a field with the isokinetic thermostat (Figures 13, S3)
+    "lattice+thermostat": lambda law: (tables.hex_lorentz_cell(0.4, law=law, force=(0.0, -1.0)).replace(
+        thermostat="isokinetic"), (0.0, 0.45)),
     "disks": lambda law: (tables.sinai_torus(0.25, law=law), (0.4, 0.1)),
 }
 #: The record modes of the kernels; "log" runs simulate(), which takes the same kernel as a full log.

@@ -16,7 +16,10 @@ from .orbits import (
     two_disk_box_orbits,
 )
 from .portraits import (
+    HEX_READINGS,
     hex_force_portraits,
+    hex_force_readings,
+    hex_reading_scene,
     lemon_sinai_portraits,
     polygon_portraits,
     portrait_set,
@@ -29,17 +32,21 @@ EXPERIMENTS = {f.__name__: f for f in (
     galton_distribution, galton_radius_sweep, galton_orbits,
     specular_noslip_orbits, pentagon_orbits, bounce_orbits, newwedge_orbits, two_disk_box_orbits, sphere_bounce,
     wedge_periodic_orbits, perturbed_wedge_orbits, wedge_launch_scan,
-    sinai_gamma_portraits, sinai_islands_sweep, hex_force_portraits, polygon_portraits, lemon_sinai_portraits,
+    sinai_gamma_portraits, sinai_islands_sweep, hex_force_portraits, hex_force_readings, polygon_portraits,
+    lemon_sinai_portraits,
 )}
 
 __all__ = [
     "EXPERIMENTS",
+    "HEX_READINGS",
     "bounce_orbits",
     "galton_cases",
     "galton_distribution",
     "galton_orbits",
     "galton_radius_sweep",
     "hex_force_portraits",
+    "hex_force_readings",
+    "hex_reading_scene",
     "lemon_sinai_portraits",
     "newwedge_orbits",
     "orbit_set",

@@ -23,7 +23,7 @@ from .galton import gamma_values
 
 
 def _portrait_case(scene, n_orbits, n_collisions, seed, elements, lyapunov_collisions, chunk_size, scheduler,
-                   progress, num_workers):
+                   progress, num_workers, lyapunov="tangent"):
     """One table's portrait (dims orbit, point) with its starts and, optionally, exponents per orbit."""
 
     boundary = islands.uniform_reduced_states(scene, n_orbits, seed, elements=elements)
@@ -48,14 +48,16 @@ def _portrait_case(scene, n_orbits, n_collisions, seed, elements, lyapunov_colli
     if scene.law == "specular":
         data["sin_angle"] = (p, coords.sin_angle.values)
     if lyapunov_collisions is not None:
-        lam = islands.finite_time_lyapunov(scene, start["positions"], start["velocities"], start["spins"],
-                                           n_collisions=lyapunov_collisions)
+        exponent = islands.twin_lyapunov if lyapunov == "twin" else islands.finite_time_lyapunov
+        lam = exponent(scene, start["positions"], start["velocities"], start["spins"],
+                       n_collisions=lyapunov_collisions)
         data["ftle"] = (o, lam)    # over lyapunov_collisions collisions (a dataset attribute)
     return xr.Dataset(data), coords.attrs
 
 
 def portrait_set(scenes, labels, *, dim="case", n_orbits=20, n_collisions=1000, seed=0, elements=None,
-                 lyapunov_collisions=None, chunk_size=None, scheduler=None, progress=None, num_workers=None):
+                 lyapunov_collisions=None, lyapunov="tangent", chunk_size=None, scheduler=None, progress=None,
+                 num_workers=None):
     r"""Phase portraits of several tables (or one table under several parameters) as one dataset.
 
     Every orbit starts on the boundary uniformly in the billiard map's
@@ -92,6 +94,11 @@ def portrait_set(scenes, labels, *, dim="case", n_orbits=20, n_collisions=1000, 
         If given, each orbit's finite-time exponent per collision over this
         many collisions (``ftle``); :func:`noslipsim.analysis.classify_regular`
         flags the regular orbits with a threshold of the reader's choice.
+    lyapunov : {'tangent', 'twin'}
+        How the exponent is measured: the exact tangent dynamics
+        (:func:`noslipsim.analysis.finite_time_lyapunov`, free fall only) or a
+        renormalised twin orbit (:func:`noslipsim.analysis.twin_lyapunov`, any
+        flight, the isokinetic thermostat included).
     chunk_size, scheduler, progress, num_workers
         Passed to :func:`noslipsim.simulate_many`.
 
@@ -119,10 +126,12 @@ def portrait_set(scenes, labels, *, dim="case", n_orbits=20, n_collisions=1000, 
     n_collisions = count(n_collisions, "n_collisions")
     if lyapunov_collisions is not None:
         lyapunov_collisions = count(lyapunov_collisions, "lyapunov_collisions", minimum=9)
+    if lyapunov not in ("tangent", "twin"):
+        raise ValueError(f"lyapunov: expected 'tangent' or 'twin', got {lyapunov!r}")
     parts, lengths = [], []
     for sc in scenes:
         part, battrs = _portrait_case(sc, n_orbits, n_collisions, seed, elements, lyapunov_collisions, chunk_size,
-                                      scheduler, progress, num_workers)
+                                      scheduler, progress, num_workers, lyapunov)
         parts.append(part)
         lengths.append(battrs["boundary_length"])
     if any("sin_angle" in part for part in parts):   # Birkhoff p only means something for specular cases
@@ -145,6 +154,7 @@ def portrait_set(scenes, labels, *, dim="case", n_orbits=20, n_collisions=1000, 
     ds.attrs.update(title="phase portraits", n_orbits=n_orbits, n_collisions=n_collisions, seed=seed,
                     elements="all" if elements is None else list(elements),
                     lyapunov_collisions=-1 if lyapunov_collisions is None else lyapunov_collisions,
+                    lyapunov_method=lyapunov,
                     sampling="uniform in the invariant measure: ds dv_t dw (no-slip), ds dp (specular)")
     return annotate(ds, case_dim=dim)
 
@@ -234,43 +244,80 @@ def sinai_islands_sweep(radii=(0.45, 0.4), gammas=GAMMAS_21, *,
     return annotate(ds)
 
 
-def hex_force_portraits(gammas=(1 / math.sqrt(2), 1.0), forces=(0.0, 0.1, 4.0), *, radius=0.4, n_orbits=100,
-                        n_collisions=5000, seed=0, lyapunov_collisions=5000, energy_collisions=None, chunk_size=None,
-                        scheduler=None, progress=None, num_workers=None):
-    """Velocity portraits of a disk in a closed hexagonal cell under a force (paper, Figure ``VPPforce``).
+#: Figure 13's readings of "a disk-shaped scatterer in a hexagonal cell under a force" (docs/figures.md,
+#: "Figure 13"): the table, its collision law and flight, and the element recorded (the disk).
+HEX_READINGS = {
+    "closed": "closed hexagonal cell, no-slip walls and disk, free fall",
+    "specular": "closed hexagonal cell, specular walls and disk, free fall",
+    "periodic": "periodic hexagonal cell (the Lorentz gas), no-slip disk, free fall",
+    "thermostat": "periodic hexagonal cell (the Lorentz gas), no-slip disk, isokinetic thermostat",
+}
 
-    The table is :func:`noslipsim.tables.closed_hex_cell` with the force ``(0, -g)``; points are
-    recorded on the disk only (the "disk-shaped scatterer" of the paper's
-    caption) and orbits start on it.  Dims ``(gamma, force, orbit, point)``
-    (:func:`portrait_set`).  For the choice of table the dataset also holds,
-    from the same starts on the disk, the kinetic energy ``(|v|^2 + w^2)/2``
-    after ``energy_collisions`` collisions (default ``n_collisions``) in the
-    closed cell and in the periodic Lorentz gas
-    (:func:`noslipsim.tables.hex_lorentz_cell`), dim ``cell``: in the periodic
-    gas a force makes it grow without bound as the particle falls through
-    the lattice; in the closed cell it is bounded by the energy.
+
+def hex_reading_scene(reading, radius, gamma, g):
+    """``(scene, disk element)`` of one of :data:`HEX_READINGS` with the force ``(0, -g)``.
+
+    ``closed``: :func:`noslipsim.tables.closed_hex_cell` (no-slip, element 6 is
+    the disk); ``specular``: the same cell with the specular law (the engine has
+    one law per scene, so the disk is specular too; ``gamma`` plays no part);
+    ``periodic``: :func:`noslipsim.tables.hex_lorentz_cell` (element 0);
+    ``thermostat``: the same with ``thermostat = 'isokinetic'`` (the speed is
+    kept, the force turns the heading; with no force the thermostat is inert:
+    the straight flights, bit for bit).
     """
+    if reading not in HEX_READINGS:
+        raise ValueError(f"reading: expected one of {sorted(HEX_READINGS)}, got {reading!r}")
+    force = (0.0, -g if g else 0.0)
+    if reading in ("closed", "specular"):
+        law = "specular" if reading == "specular" else "no-slip"
+        return tables.closed_hex_cell(radius, gamma=gamma, force=force, law=law), 6
+    scene = tables.hex_lorentz_cell(radius, gamma=gamma, force=force)
+    return (scene.replace(thermostat="isokinetic") if reading == "thermostat" else scene), 0
 
-    gammas = gamma_values(gammas)
+
+def _forces(forces):
     forces = [float(g) for g in forces]
     if not forces or any(not (math.isfinite(g) and g >= 0.0) for g in forces) or len(set(forces)) != len(forces):
         raise ValueError(f"forces: expected distinct force strengths >= 0, got {forces}")
+    return forces
+
+
+def hex_force_portraits(gammas=(1 / math.sqrt(2), 1.0), forces=(0.0, 0.1, 4.0), *, reading="closed", radius=0.4,
+                        n_orbits=100, n_collisions=5000, seed=0, lyapunov_collisions=5000, energy_collisions=None,
+                        chunk_size=None, scheduler=None, progress=None, num_workers=None):
+    """Velocity portraits of a disk in a hexagonal cell under a force (paper, Figure ``VPPforce``).
+
+    The table is the ``reading`` of :data:`HEX_READINGS` (:func:`hex_reading_scene`)
+    with the force ``(0, -g)``; points are recorded on the disk only (the
+    "disk-shaped scatterer" of the paper's caption) and orbits start on it.
+    Dims ``(gamma, force, orbit, point)`` (:func:`portrait_set`); the
+    exponents ``ftle`` come from twin orbits (:func:`noslipsim.analysis.twin_lyapunov`,
+    the method that serves every reading).  The portrait's ``(v_t, w)`` is the
+    post-collision velocity normalised by its length, so a particle that
+    speeds up as it falls (periodic cell, free fall) stays on the unit disk.
+    Also, from the same starts on the disk, the kinetic energy ``(|v|^2 +
+    w^2)/2`` after ``energy_collisions`` collisions (default ``n_collisions``)
+    in the closed cell and in the periodic gas under free fall, dim ``cell``:
+    in the periodic gas the force makes it grow without bound as the particle
+    falls through the lattice; in the closed cell the energy bounds it.
+    """
+    gammas = gamma_values(gammas)
+    forces = _forces(forces)
     energy_collisions = n_collisions if energy_collisions is None else count(energy_collisions,
                                                                               "energy_collisions")
-    disk = 6
     rows, energy = [], []
     for gm in gammas:
-        cells = [tables.closed_hex_cell(radius, gamma=gm, force=(0.0, -g if g else 0.0)) for g in forces]
-        rows.append(portrait_set(cells, forces, dim="force", n_orbits=n_orbits, n_collisions=n_collisions,
-                                 seed=seed, elements=[disk], lyapunov_collisions=lyapunov_collisions,
-                                 chunk_size=chunk_size, scheduler=scheduler, progress=progress,
-                                 num_workers=num_workers).drop_vars("gamma"))
+        cells = [hex_reading_scene(reading, radius, gm, g) for g in forces]
+        disk = cells[0][1]
+        rows.append(portrait_set([sc for sc, _ in cells], forces, dim="force", n_orbits=n_orbits,
+                                 n_collisions=n_collisions, seed=seed, elements=[disk],
+                                 lyapunov_collisions=lyapunov_collisions, lyapunov="twin", chunk_size=chunk_size,
+                                 scheduler=scheduler, progress=progress, num_workers=num_workers).drop_vars("gamma"))
         per_force = []
-        for g, closed in zip(forces, cells):
-            lattice = tables.hex_lorentz_cell(radius, gamma=gm, force=(0.0, -g if g else 0.0))
+        for g in forces:
             kin = []
-            for sc, el in ((closed, [disk]), (lattice, [0])):
-                st = islands.uniform_reduced_states(sc, n_orbits, seed, elements=el)
+            for sc, el in (hex_reading_scene("closed", radius, gm, g), hex_reading_scene("periodic", radius, gm, g)):
+                st = islands.uniform_reduced_states(sc, n_orbits, seed, elements=[el])
                 fin = simulate_many(sc, st["positions"], st["velocities"], st["spins"],
                                     start_elements=st["start_elements"], max_collisions=energy_collisions,
                                     record="final", chunk_size=chunk_size, scheduler=scheduler, progress=progress,
@@ -283,12 +330,83 @@ def hex_force_portraits(gammas=(1 / math.sqrt(2), 1.0), forces=(0.0, 0.1, 4.0), 
     ds = xr.concat(rows, dim=xr.DataArray(gammas, dims="gamma", name="gamma"), data_vars="all")
     ds["kinetic_final"] = (("gamma", "force", "cell", "orbit"), np.array(energy))   # after energy_collisions
     ds = ds.assign_coords(cell=["closed", "periodic"])
-    ds.attrs.update(title="velocity portraits of a disk in a closed hexagonal cell under a force", radius=radius,
-                    energy_collisions=energy_collisions, recorded_elements="the disk (element 6)",
-                    table_choice="closed hexagonal cell with no-slip walls: in the periodic Lorentz gas a constant "
-                                 "force makes the kinetic energy grow without bound (kinetic_final, cell='periodic'), "
-                                 "so the normalised portrait of a long orbit drifts towards the force-free one; the "
-                                 "closed cell keeps it bounded by the energy")
+    ds.attrs.update(title=f"velocity portraits of a disk in a hexagonal cell under a force ({reading})",
+                    reading=reading, table=HEX_READINGS[reading], radius=radius,
+                    energy_collisions=energy_collisions, recorded_elements=f"the disk (element {disk})")
+    return annotate(ds)
+
+
+def hex_force_readings(gammas=(1 / math.sqrt(2), 1.0), forces=(0.0, 0.1, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0), *,
+                       readings=tuple(HEX_READINGS), radius=0.4, n_orbits=60, lyapunov_collisions=1000, seed=0,
+                       num_workers=None, progress=False):
+    r"""Finite-time exponents of Figure 13's four readings against the force (Figure S3).
+
+    For each reading of :data:`HEX_READINGS`, gamma and force strength ``g``
+    (force ``(0, -g)``), ``n_orbits`` starts on the disk uniform in the
+    invariant measure of the force-free map (``ds dv_t dw``; specular ``ds dp``;
+    the same scaled draws everywhere, as in Figure 13) and each orbit's
+    finite-time exponent per collision over ``lyapunov_collisions`` collisions
+    from a twin orbit (:func:`noslipsim.analysis.twin_lyapunov`).
+    :func:`noslipsim.analysis.regular_share` turns them into the share of
+    regular orbits, the quantity the caption's "structure", "dissipates" and
+    "new invariant regions" are about.
+
+    Parameters
+    ----------
+    gammas : sequence of float
+        Mass distributions (the paper: ``1/sqrt 2`` and ``1``).
+    forces : sequence of float
+        Distinct force strengths ``g >= 0``.
+    readings : sequence of str
+        Keys of :data:`HEX_READINGS`.
+    radius : float
+        Disk radius (unit triangular lattice; ``(0, 1/2)``).
+    n_orbits, lyapunov_collisions : int
+        Orbits per case and collisions per exponent.
+    seed : int
+        Seed of the starts and of the twins.
+    num_workers : int, optional
+        Threads (the result does not depend on it).
+    progress : bool
+        One line per case on stderr.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims ``(reading, gamma, force, orbit)``: ``ftle``; ``reading_table`` per
+        reading (a description).
+    """
+    gammas = gamma_values(gammas)
+    forces = _forces(forces)
+    readings = list(readings)
+    if not readings or len(set(readings)) != len(readings) or any(r not in HEX_READINGS for r in readings):
+        raise ValueError(f"readings: expected distinct names among {sorted(HEX_READINGS)}, got {readings}")
+    n_orbits = count(n_orbits, "n_orbits")
+    lyapunov_collisions = count(lyapunov_collisions, "lyapunov_collisions", minimum=9)
+    lam = np.full((len(readings), len(gammas), len(forces), n_orbits), np.nan)
+    for i, reading in enumerate(readings):
+        for j, gm in enumerate(gammas):
+            for k, g in enumerate(forces):
+                if reading == "specular" and j > 0:   # gamma plays no part in a specular table: the same orbits
+                    lam[i, j, k] = lam[i, 0, k]
+                    continue
+                scene, disk = hex_reading_scene(reading, radius, gm, g)
+                start = islands.interior_starts(scene, islands.uniform_reduced_states(scene, n_orbits, seed,
+                                                                                     elements=[disk]))
+                lam[i, j, k] = islands.twin_lyapunov(scene, start["positions"], start["velocities"], start["spins"],
+                                                     n_collisions=lyapunov_collisions, seed=seed,
+                                                     num_workers=num_workers)
+                if progress:
+                    print(f"hex_force_readings: {reading}, gamma = {gm:g}, g = {g:g}: median exponent "
+                          f"{np.nanmedian(lam[i, j, k]):.3f}", file=sys.stderr, flush=True)
+    ds = xr.Dataset({"ftle": (("reading", "gamma", "force", "orbit"), lam),
+                     "reading_table": ("reading", [HEX_READINGS[r] for r in readings])},
+                    coords={"reading": readings, "gamma": gammas, "force": forces, "orbit": np.arange(n_orbits)})
+    ds.attrs.update(title="finite-time exponents of Figure 13's readings against the force", radius=radius,
+                    n_orbits=n_orbits, lyapunov_collisions=lyapunov_collisions, lyapunov_method="twin", seed=seed,
+                    force_direction="(0, -g)",
+                    sampling="starts on the disk uniform in the force-free invariant measure (the same scaled draws "
+                             "everywhere)")
     return annotate(ds)
 
 

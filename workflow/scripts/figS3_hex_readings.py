@@ -1,0 +1,46 @@
+"""Figure S3 (beyond the paper): Figure 13's readings, the share of regular orbits against the force."""
+import sys
+
+sys.stderr = open(snakemake.log[0], "w", buffering=1)
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+from noslipsim import plot
+from noslipsim.analysis import regular_share
+
+ds = plot.load_figure_data(snakemake.input.readings)
+drawn = plot.load_figure_data(snakemake.input.portraits)      # the reading Figure 13 draws, and its forces
+chosen = drawn.attrs["reading"]
+threshold = snakemake.params.threshold
+share, err, n = regular_share(ds.ftle.values, threshold)     # dims (reading, gamma, force)
+STYLE = {"closed": ("C0", "o"), "specular": ("C7", "s"), "periodic": ("C1", "^"), "thermostat": ("C3", "D")}
+LABEL = {"closed": "closed cell, no-slip walls", "specular": "closed cell, specular",
+         "periodic": "periodic cell, free fall", "thermostat": "periodic cell, isokinetic thermostat"}
+
+plot.use_style()
+n_gamma = ds.sizes["gamma"]
+fig, axes = plt.subplots(1, n_gamma, figsize=(3.3 * n_gamma, 2.9), squeeze=False, sharey=True)
+forces = ds.force.values
+for j, gamma in enumerate(ds.gamma.values):
+    ax = axes[0, j]
+    for i, reading in enumerate(ds.reading.values):
+        reading = str(reading)
+        color, marker = STYLE.get(reading, ("k", "o"))
+        label = LABEL.get(reading, reading) + (" (Figure 13)" if reading == chosen else "")
+        ax.errorbar(forces, share[i, j], yerr=err[i, j], color=color, marker=marker, markersize=3.5, capsize=2,
+                    linewidth=1.8 if reading == chosen else 0.9, label=label)
+    for g in drawn.force.values:          # Figure 13's rows
+        ax.axvline(float(g), color="0.75", linewidth=0.6, linestyle=":", zorder=0)
+    ax.set_xscale("symlog", linthresh=min(f for f in forces if f > 0) if (forces > 0).any() else 1.0)
+    ax.set(xlabel="force strength $g$ (force (0, $-g$), unit start speed)", ylim=(-0.03, 1.0),
+           title=f"$\\gamma$ = {gamma:.3g}")
+    if j == 0:
+        ax.set_ylabel(f"share of regular orbits\n(exponent < {threshold:g} per collision)")
+axes[0, -1].legend(fontsize=6.5, loc="upper right")
+fig.suptitle(f"disk of radius {ds.attrs['radius']:g} in a hexagonal cell: {ds.attrs['n_orbits']} orbits per point, "
+             f"exponents over {ds.attrs['lyapunov_collisions']:,} collisions (twin orbits); dotted: Figure 13's rows",
+             fontsize=7)
+plot.save_figure(fig, snakemake.output.pdf)  # writes the .pdf and the .png beside it
