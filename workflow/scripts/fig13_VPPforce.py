@@ -27,10 +27,10 @@ increasing = list(ds.force.values) == sorted(ds.force.values)
 names = ROWS if n_force == 3 and float(ds.force[0]) == 0 and increasing else ["force"] * n_force
 
 plot.use_style()
-top = 0.75   # inches above the panels: the table inset and the title, off the data
-fig, axes = plt.subplots(n_force, n_gamma, figsize=(2.2 * n_gamma + 0.5, 2.05 * n_force + 0.5 + top),
-                         squeeze=False)
-fig.subplots_adjust(top=1.0 - (top + 0.35) / fig.get_figheight())
+top = 0.8   # inches above the panels: the table and the title, off the data
+fig = plt.figure(figsize=(2.2 * n_gamma + 0.5, 2.05 * n_force + 0.5 + top))
+head, body = fig.subfigures(2, 1, height_ratios=[top, fig.get_figheight() - top])
+axes = body.subplots(n_force, n_gamma, squeeze=False)
 for i, g in enumerate(ds.force.values):
     for j, gamma in enumerate(ds.gamma.values):
         ax = axes[i, j]
@@ -45,16 +45,13 @@ for i, g in enumerate(ds.force.values):
             ax.set_ylabel("")
         if i < n_force - 1:
             ax.set_xlabel("")
-scene = ds.scene.values.flat[0]
-left = axes[0, 0].get_position()
-inset = fig.add_axes([0.01, left.y1 + 0.55 / fig.get_figheight(), 0.16, (top - 0.05) / fig.get_figheight()])
+inset, text = head.subplots(1, 2, width_ratios=[1, 3.5])
 periodic = reading in ("periodic", "thermostat")
-plot.draw_table(inset, scene, window=(-1.05, 1.05, -0.9, 0.9) if periodic else None, linewidth=0.5)
+plot.draw_table(inset, ds.scene.values.flat[0], window=(-0.75, 0.75, -0.65, 0.65) if periodic else None,
+                linewidth=0.5)
 inset.set_axis_off()
-last = ds.isel(force=-1).kinetic_final      # free fall, strongest force: closed cell against periodic gas
-closed, periodic_gas = (float(last.sel(cell=c).median()) for c in ("closed", "periodic"))
-fig.suptitle(f"disk of radius {ds.attrs['radius']:g} in {TABLES.get(reading, reading)}, force (0, $-g$); points "
-             f"on the disk.\nFree fall, median kinetic energy after {ds.attrs['energy_collisions']:,} collisions at "
-             f"$g$ = {float(ds.force[-1]):g} (start 0.5): closed cell {closed:.2g}, periodic gas {periodic_gas:.3g}",
-             fontsize=7, x=0.58)
+text.set_axis_off()
+text.text(0.0, 0.5, f"disk of radius {ds.attrs['radius']:g} in {TABLES.get(reading, reading)};\nforce (0, $-g$) "
+          f"per unit mass, unit start speed;\npoints: collisions with the disk, {ds.attrs['n_collisions']:,} per "
+          f"orbit", fontsize=7, va="center", ha="left", transform=text.transAxes)
 plot.save_figure(fig, snakemake.output.pdf)  # writes the .pdf and the .png beside it

@@ -22,7 +22,7 @@ LABEL = {"closed": "closed cell, no-slip walls", "specular": "closed cell, specu
 
 plot.use_style()
 n_gamma = ds.sizes["gamma"]
-fig, axes = plt.subplots(1, n_gamma, figsize=(3.3 * n_gamma, 2.9), squeeze=False, sharey=True)
+fig, axes = plt.subplots(1, n_gamma, figsize=(3.3 * n_gamma, 3.6), squeeze=False, sharey=True)
 forces = ds.force.values
 for j, gamma in enumerate(ds.gamma.values):
     ax = axes[0, j]
@@ -35,12 +35,14 @@ for j, gamma in enumerate(ds.gamma.values):
     for g in drawn.force.values:          # Figure 13's rows
         ax.axvline(float(g), color="0.75", linewidth=0.6, linestyle=":", zorder=0)
     ax.set_xscale("symlog", linthresh=min(f for f in forces if f > 0) if (forces > 0).any() else 1.0)
-    ax.set(xlabel="force strength $g$ (force (0, $-g$), unit start speed)", ylim=(-0.03, 1.0),
-           title=f"$\\gamma$ = {gamma:.3g}")
+    ax.set(xlabel="force strength $g$", ylim=(-0.03, 1.05), title=f"$\\gamma$ = {gamma:.3g}")
     if j == 0:
         ax.set_ylabel(f"share of regular orbits\n(exponent < {threshold:g} per collision)")
-axes[0, -1].legend(fontsize=6.5, loc="upper right")
-fig.suptitle(f"disk of radius {ds.attrs['radius']:g} in a hexagonal cell: {ds.attrs['n_orbits']} orbits per point, "
-             f"exponents over {ds.attrs['lyapunov_collisions']:,} collisions (twin orbits); dotted: Figure 13's rows",
-             fontsize=7)
+handles, labels = axes[0, 0].get_legend_handles_labels()
+fig.legend(handles, labels, fontsize=6.5, loc="lower center", ncol=2, frameon=False)
+fig.set_layout_engine("none")   # room below the panels for the legend
+fig.subplots_adjust(left=0.1, right=0.98, bottom=0.33, top=0.82, wspace=0.08)
+fig.suptitle(f"disk of radius {ds.attrs['radius']:g} in a hexagonal cell, force (0, $-g$), unit start speed: "
+             f"{ds.attrs['n_orbits']} orbits per point,\nexponents over {ds.attrs['lyapunov_collisions']:,} "
+             f"collisions (twin orbits); dotted: Figure 13's rows", fontsize=7)
 plot.save_figure(fig, snakemake.output.pdf)  # writes the .pdf and the .png beside it
