@@ -337,7 +337,7 @@ def hex_force_portraits(gammas=(1 / math.sqrt(2), 1.0), forces=(0.0, 0.1, 4.0), 
 
 
 def hex_force_readings(gammas=(1 / math.sqrt(2), 1.0), forces=(0.0, 0.1, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0), *,
-                       readings=tuple(HEX_READINGS), radius=0.4, n_orbits=60, lyapunov_collisions=1000, seed=0,
+                       readings=tuple(HEX_READINGS), radius=0.4, n_orbits=100, lyapunov_collisions=1000, seed=0,
                        num_workers=None, progress=False):
     r"""Finite-time exponents of Figure 13's four readings against the force (Figure S3).
 
