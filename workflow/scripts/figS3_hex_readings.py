@@ -34,14 +34,14 @@ for j, gamma in enumerate(ds.gamma.values):
                     linewidth=1.8 if reading == chosen else 0.9, label=label)
     for g in drawn.force.values:          # Figure 13's rows
         ax.axvline(float(g), color="0.75", linewidth=0.6, linestyle=":", zorder=0)
-    ax.set_xscale("symlog", linthresh=min(f for f in forces if f > 0) if (forces > 0).any() else 1.0)
+    linthresh = min(f for f in forces if f > 0) if (forces > 0).any() else 1.0
+    ax.set_xscale("symlog", linthresh=linthresh)
+    ax.set_xlim(-0.3 * linthresh, 1.4 * max(forces.max(), linthresh))
     ax.set(xlabel="force strength $g$", ylim=(-0.03, 1.05), title=f"$\\gamma$ = {gamma:.3g}")
     if j == 0:
         ax.set_ylabel(f"share of regular orbits\n(exponent < {threshold:g} per collision)")
 handles, labels = axes[0, 0].get_legend_handles_labels()
-fig.legend(handles, labels, fontsize=6.5, loc="lower center", ncol=2, frameon=False)
-fig.set_layout_engine("none")   # room below the panels for the legend
-fig.subplots_adjust(left=0.1, right=0.98, bottom=0.33, top=0.82, wspace=0.08)
+fig.legend(handles, labels, fontsize=6.5, loc="outside lower center", ncol=2, frameon=False)   # below the panels
 fig.suptitle(f"disk of radius {ds.attrs['radius']:g} in a hexagonal cell, force (0, $-g$), unit start speed: "
              f"{ds.attrs['n_orbits']} orbits per point,\nexponents over {ds.attrs['lyapunov_collisions']:,} "
              f"collisions (twin orbits); dotted: Figure 13's rows", fontsize=7)
