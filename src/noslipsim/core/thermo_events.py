@@ -49,9 +49,10 @@ from .tolerances import ROOT_MAX_ITER
 INF = math.inf
 EPS = 2.220446049250313e-16
 
-#: Conservative steps one circle search may take before it gives up (never reached in the tests and
-#: benchmarks: a step is at least a fixed share of the remaining distance, or the search is at a
-#: tangency, which ends it).  Giving up is not "no hit": the search returns :data:`GAVE_UP`, the
+#: Conservative steps one circle search may take before it gives up (not reached in the tests and
+#: benchmarks since a step below the resolution of the time counts as no progress and is lengthened
+#: to a rounding step: before, one random flight of the tests stalled here and returned "no hit" by
+#: luck).  Giving up is not "no hit": the search returns :data:`GAVE_UP`, the
 #: cell search the element :data:`SEARCH_FAILED`, the cell walk the status 3, and the event loop
 #: stops the orbit with ``layout.STOP_SEARCH_LIMIT`` ("search_limit") where it stands.
 MAX_STEPS = 100_000
@@ -434,7 +435,9 @@ def round_hit(kind, p, fl, sx, sy, lo, hi, deflate, extent_tol, E):
                 step = tin
             elif hi == INF and lam <= 0.0 and dx * fl[12] + dy * fl[13] > r:
                 return INF
-        if not step > 0.0:  # no progress (G, G' and the bound all zero): move on by a rounding step
+        if not a + step > a:  # no progress: the bound's step is zero or below the resolution of a (a flight
+            # re-entering the table side with G zero to rounding stepped by 4e-16 at a = 5 and stalled for
+            # MAX_STEPS steps); move on by a rounding step
             step = max(4.0 * EPS * a, EPS * dn / c)
         a += step
         dx, dy, vx, vy, lam, G, G1 = _round_at(fl, cx, cy, sig, r, a)
