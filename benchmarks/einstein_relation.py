@@ -18,7 +18,7 @@ Einstein relation ``<v_F>/E = D/c^2``, ``<|q(t) - q(0)|^2> -> 4 D t``.  Printed:
   simulations;
 * per field: the mean current ``<X(T)>/T`` with its standard error, and the ratio
   ``2 c^2 <X(T)>_E / (E <X(T)^2>_0)`` (-> 1 as ``E -> 0``), its error from both ensembles;
-* the no-slip law (``--noslip``): the same with the weighted displacement
+* the no-slip law (``--noslip``, instead of the specular one): the same with the weighted displacement
   ``X_w = sum_i dx_i / c_i^2`` (each flight at its own speed), ``<X(T)>_E = (E/2) <X_w X>_0``;
 * collisions per second of each run (the machine and load on the first and last line).
 
@@ -168,15 +168,16 @@ def main():
     ap.add_argument("--T", type=float, default=100.0)
     ap.add_argument("--orbits", type=int, default=4000, help="orbits per field (thermostatted)")
     ap.add_argument("--zero-orbits", type=int, default=40000, help="zero-field orbits (straight flights)")
-    ap.add_argument("--fields", type=float, nargs="+", default=[0.1, 0.2, 0.4])
-    ap.add_argument("--noslip", action="store_true", help="also the no-slip law")
+    ap.add_argument("--fields", type=float, nargs="*", default=[0.1, 0.2, 0.4])
+    ap.add_argument("--noslip", action="store_true", help="the no-slip law instead of the specular one")
     ap.add_argument("--orbits-noslip", type=int, default=2000)
     ap.add_argument("--zero-orbits-noslip", type=int, default=4000)
     args = ap.parse_args()
     print(machine_line(numpy=True, load=True))
-    specular(args)
     if args.noslip:
         noslip(args)
+    else:
+        specular(args)
     print(machine_line(load=True))
 
 
