@@ -109,7 +109,7 @@ def specular(args):
     r, c, T = args.radius, args.speed, args.T
     scene = tables.hex_lorentz_cell(r, law="specular")
     mc = int(20 * T * c / (math.pi * (math.sqrt(3) / 2 - math.pi * r * r) / (2 * math.pi * r))) + 100
-    z = equilibrium_starts(scene, args.zero_orbits, c, seed=1)
+    z = equilibrium_starts(scene, args.zero_orbits, c, seed=args.seed + 1)
     d1, _ = run(scene, z, T / 4, mc)
     d2, rate0 = run(scene, z, T, mc)
     sq1, sq2 = (d1 ** 2).sum(axis=1), (d2 ** 2).sum(axis=1)
@@ -125,7 +125,7 @@ def specular(args):
           f"{'ratio 2c^2<X>/(E<X^2>_0)':>25s} {'+-':>6s} {'coll/s':>9s}")
     for E in args.fields:
         th = scene.replace(force=(E, 0.0), thermostat="isokinetic")
-        st = equilibrium_starts(scene, args.orbits, c, seed=2)
+        st = equilibrium_starts(scene, args.orbits, c, seed=args.seed + 2)
         dE, rate = run(th, st, T, mc)
         X, X_se = mean_se(dE[:, 0])
         ratio = 2 * c * c * X / (E * msd_2)
@@ -138,7 +138,7 @@ def noslip(args):
     r, c, T = args.radius, args.speed, args.T
     scene = tables.hex_lorentz_cell(r, law="no-slip")
     mc = int(40 * T * c / (math.pi * (math.sqrt(3) / 2 - math.pi * r * r) / (2 * math.pi * r))) + 100
-    z = equilibrium_starts(scene, args.zero_orbits_noslip, c, seed=3, noslip=True)
+    z = equilibrium_starts(scene, args.zero_orbits_noslip, c, seed=args.seed + 3, noslip=True)
     d0, dw0, rate0 = run_log(scene, z, T, mc)
     xx, xx_se = mean_se(0.5 * (d0 * dw0).sum(axis=1))      # <X_w X>_0 (both components)
     msd, msd_se = mean_se(0.5 * (d0 ** 2).sum(axis=1))
@@ -150,7 +150,7 @@ def noslip(args):
           f"{'2c^2<X>/(E<X^2>_0)':>19s} {'+-':>6s} {'coll/s':>9s}")
     for E in args.fields:
         th = scene.replace(force=(E, 0.0), thermostat="isokinetic")
-        st = equilibrium_starts(scene, args.orbits_noslip, c, seed=4, noslip=True)
+        st = equilibrium_starts(scene, args.orbits_noslip, c, seed=args.seed + 4, noslip=True)
         dE, rate = run(th, st, T, mc)
         X, X_se = mean_se(dE[:, 0])
         ratio = 2 * X / (E * xx)
@@ -169,6 +169,7 @@ def main():
     ap.add_argument("--orbits", type=int, default=4000, help="orbits per field (thermostatted)")
     ap.add_argument("--zero-orbits", type=int, default=40000, help="zero-field orbits (straight flights)")
     ap.add_argument("--fields", type=float, nargs="*", default=[0.1, 0.2, 0.4])
+    ap.add_argument("--seed", type=int, default=0, help="offset of the ensembles' seeds (independent repeats)")
     ap.add_argument("--noslip", action="store_true", help="the no-slip law instead of the specular one")
     ap.add_argument("--orbits-noslip", type=int, default=2000)
     ap.add_argument("--zero-orbits-noslip", type=int, default=4000)
