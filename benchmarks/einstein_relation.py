@@ -14,8 +14,8 @@ Einstein relation ``<v_F>/E = D/c^2``, ``<|q(t) - q(0)|^2> -> 4 D t``.  Printed:
 
 * ``D`` from the slope of the zero-field mean squared displacement between ``T/4`` and ``T``
   (standard error over orbits), against Machta-Zwanzig's
-  ``D_MZ = c w / (pi (sqrt(3) - 2 pi r^2))`` (``w = 1 - 2 r``; unit spacing) and Klages-Dellago's
-  simulations;
+  ``D_MZ = c g / (pi (sqrt(3) - 2 pi r^2))`` (gap ``g = 1 - 2 r``; unit spacing; Klages and
+  Dellago's simulated values were not reachable, docs/analysis.md);
 * per field: the mean current ``<X(T)>/T`` with its standard error, and the ratio
   ``2 c^2 <X(T)>_E / (E <X(T)^2>_0)`` (-> 1 as ``E -> 0``), its error from both ensembles;
 * the no-slip law (``--noslip``, instead of the specular one): the same with the weighted displacement
@@ -39,17 +39,16 @@ from noslipsim.initial import uniform_in_region
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from machine import machine_line
 
-# Klages & Dellago, J. Stat. Phys. 101 (2000) 145 (chao-dyn/9910038): disks of radius 1 on a
-# triangular lattice of spacing 2 + w, speed 1.  The Machta-Zwanzig value in their units is
-# w (2 + w)^2 / (pi (sqrt(3) (2 + w)^2 - 2 pi)); ours (unit spacing, r = 1 / (2 + w)) is that over
-# (2 + w).
+# Klages & Dellago, J. Stat. Phys. 101 (2000) 145 (chao-dyn/9910038) use disks of radius 1 on a
+# triangular lattice of spacing 2 + g', speed 1: there D_MZ = g' (2 + g')^2 / (pi (sqrt(3) (2 + g')^2
+# - 2 pi)); ours (unit spacing, r = 1 / (2 + g')) is that over (2 + g').
 
 
 def machta_zwanzig(r, c=1.0):
     """Machta-Zwanzig ``D`` of the hexagonal gas, unit spacing, disk radius ``r``, speed ``c``.
 
     Hops between the triangular traps (two per cell, area ``(sqrt(3)/2 - pi r^2)/2``, three exits of
-    width ``w = 1 - 2 r``, hop length ``1/sqrt(3)``) at the rate ``3 c w / (pi A)``; ``D = rate l^2/4``.
+    width ``g = 1 - 2 r``, hop length ``1/sqrt(3)``) at the rate ``3 c g / (pi A)``; ``D = rate l^2/4``.
     """
     return c * (1.0 - 2.0 * r) / (math.pi * (math.sqrt(3.0) - 2.0 * math.pi * r * r))
 
