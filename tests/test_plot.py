@@ -43,6 +43,31 @@ def test_every_element_kind_draws(ax):
     assert shade[:, 1].max() <= 0 and shade[:, 1].min() == -1
 
 
+def test_wedge_walls_stop_at_the_vertex_and_shades_are_opaque(ax):
+    # a wedge opening up with its vertex at the origin (y >= |x| tan 0.4), as two infinite lines
+    a = 0.4
+    left, right = Line((0.0, 0.0), (math.sin(a), math.cos(a))), Line((0.0, 0.0), (-math.sin(a), math.cos(a)))
+    for scene in (ns.Scene((left, right)), ns.Scene((right, left))):
+        ax.clear()
+        plot.draw_table(ax, scene, window=(-2, 2, -1, 2))
+        (walls,) = [c for c in ax.collections if isinstance(c, LineCollection)]
+        for seg in walls.get_segments():
+            assert seg[:, 1].min() == pytest.approx(0.0, abs=1e-12)    # ends at the vertex, not below it
+            assert np.all(seg[:, 1] >= -1e-12)
+        shades = next(c for c in ax.collections if isinstance(c, PatchCollection))
+        assert shades.get_alpha() is None                               # overlapping shades show no darker patch
+    shapes = plot.table_shapes(ns.Scene((left, right)), (-2, 2, -1, 2))
+    assert all(min(ys) == pytest.approx(0.0, abs=1e-12) for _, ys in shapes["walls"])
+
+
+def test_line_shut_out_by_another_line_draws_no_chord(ax):
+    # two parallel floors: the lower one is behind the upper one everywhere, so it bounds nothing
+    scene = ns.Scene((Line((0.0, 0.0), (0.0, 1.0)), Line((0.0, -0.5), (0.0, 1.0)), Circle((0.0, 1.0), 0.2)))
+    plot.draw_table(ax, scene, window=(-1, 1, -1, 2))
+    (walls,) = [c for c in ax.collections if isinstance(c, LineCollection)]
+    assert len(walls.get_segments()) == 1 and np.allclose(walls.get_segments()[0][:, 1], 0.0)
+
+
 def test_line_outside_the_window_draws_no_chord(ax):
     scene = ns.Scene((Line((0.0, 5.0), (0.0, -1.0)), Circle((0.0, 0.0), 0.5)))
     plot.draw_table(ax, scene, window=(-1, 1, -1, 1))
