@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 import xarray as xr
 from matplotlib.collections import LineCollection, PatchCollection
+from matplotlib.patches import Circle as CirclePatch
 from matplotlib.patches import FancyArrowPatch
 
 import noslipsim as ns
@@ -173,8 +174,39 @@ def test_orbit_draws_spin_markers_and_end_dots(ax):
     orbit = ns.simulate(scene, (0.05, 0.5), (1.0, 0.37), 0.5, max_collisions=6)
     line = plot.draw_orbit(ax, orbit, spin_every=2)
     assert line.get_color() == plot.LAW_COLORS["no-slip"]
-    assert len([p for p in ax.patches if isinstance(p, FancyArrowPatch)]) == 4   # flights 0, 2, 4, 6
+    assert orbit.t_final == orbit.t[-1]                                # flight 6 has zero length: no room
+    assert len([p for p in ax.patches if isinstance(p, FancyArrowPatch)]) == 3   # flights 0, 2, 4
     assert len(ax.lines) == 3                                          # the path and two end dots
+
+
+def _spin_centres(ax):
+    return np.array([p.center for p in ax.patches if isinstance(p, CirclePatch)])
+
+
+def test_spin_markers_neither_overlap_nor_cross_walls(ax):
+    scene = tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.3)])
+    orbit = ns.simulate(scene, (0.05, 0.5), (1.0, 0.37), 0.5, max_collisions=60)
+    r = 0.08
+    plot.draw_orbit(ax, orbit, spin_every=1, spin_radius=r)
+    c = _spin_centres(ax)
+    assert 10 <= len(c) < 61                                           # many flights hold one, not all
+    gaps = np.hypot(*(c[:, None, :] - c[None, :, :]).transpose(2, 0, 1))
+    assert gaps[~np.eye(len(c), dtype=bool)].min() >= 2 * r             # no two markers overlap
+    to_walls = np.min([c[:, 0], 2.0 - c[:, 0], c[:, 1], 1.0 - c[:, 1],
+                       np.abs(np.hypot(c[:, 0] - 1.0, c[:, 1] - 0.5) - 0.3)], axis=0)
+    assert to_walls.min() >= r                                          # no marker crosses a wall
+    arrows = [p for p in ax.patches if isinstance(p, FancyArrowPatch)]
+    assert arrows and all(a.get_mutation_scale() >= 6 for a in arrows)  # heads readable in print
+
+
+def test_a_repeated_flight_gets_one_spin_marker(ax):
+    # the bouncing ball's 2-periodic orbit flies the same two arcs again and again
+    gamma = 1 / math.sqrt(2)
+    scene = ns.Scene((Line((0.0, 0.0), (0.0, 1.0)),), force=(0.0, -1.0), gamma=gamma)
+    orbit = ns.simulate(scene, (0.0, 0.5), (0.5, 0.0), 0.5 / gamma, max_collisions=20)   # w = v_x / gamma
+    np.testing.assert_allclose(orbit.x.values[:4], [0.5, -0.5, 0.5, -0.5], atol=1e-9)
+    plot.draw_orbit(ax, orbit, spin_every=1, spin_radius=0.05)
+    assert 2 <= len(_spin_centres(ax)) <= 4
 
 
 def test_portrait_on_the_unit_disk(ax):
