@@ -40,8 +40,8 @@ def test_equal_panels_gives_equal_boxes_and_aligned_titles():
             ax.set_ylim(0, h)
             ax.set_aspect("equal")
             ax.set_title("t")
-        width, height = plot.equal_panels(axes, margin=0.0)
-        assert (width, height) == (2.0, 1.5)
+        windows = plot.equal_panels(axes, margin=0.0)
+        assert {(x1 - x0, y1 - y0) for x0, x1, y0, y1 in windows} == {(2.0, 1.5)}
         fig.canvas.draw()
         boxes = [ax.get_position() for ax in axes]
         assert np.allclose([b.width for b in boxes], boxes[0].width)
@@ -52,11 +52,23 @@ def test_equal_panels_gives_equal_boxes_and_aligned_titles():
         plt.close(fig)
 
 
-@pytest.mark.parametrize(("kwargs", "match"), [({"margin": -0.1}, "margin"), ({"margin": float("nan")}, "margin")])
-def test_equal_panels_refuses_bad_margin(kwargs, match):
+def test_equal_windows_keep_each_scale_and_share_one_shape():
+    windows = [(0, 1, 0, 1), (0, 4, 0, 1), (-1, 1, 0, 3)]
+    out = plot.equal_windows(windows)
+    assert [(x1 - x0, y1 - y0) for x0, x1, y0, y1 in out] == [(1.0, 1.5), (4.0, 6.0), (2.0, 3.0)]
+    for (a0, a1, b0, b1), (x0, x1, y0, y1) in zip(windows, out):    # centred, content kept
+        assert x0 <= a0 and x1 >= a1 and y0 <= b0 and y1 >= b1 and x0 + x1 == a0 + a1 and y0 + y1 == b0 + b1
+    assert plot.equal_windows(windows, aspect=0.25)[0] == (-1.5, 2.5, 0.0, 1.0)
+
+
+@pytest.mark.parametrize(("kwargs", "match"), [({"margin": -0.1}, "margin"), ({"margin": float("nan")}, "margin"),
+                                               ({"aspect": 0.0}, "aspect")])
+def test_equal_panels_refuses_bad_input(kwargs, match):
     fig, ax = plt.subplots()
     with pytest.raises(ValueError, match=match):
-        plot.equal_panels([ax], **kwargs)
+        plot.equal_panels([ax], **kwargs) if "margin" in kwargs else plot.equal_windows([(0, 1, 0, 1)], **kwargs)
+    with pytest.raises(ValueError, match="x0 < x1"):
+        plot.equal_windows([(1, 0, 0, 1)])
     with pytest.raises(ValueError, match="axes"):
         plot.equal_panels([])
     plt.close(fig)

@@ -4,7 +4,7 @@ Figure scripts read datasets and draw with these; they never simulate.
 
 - :func:`use_style`: the project's style file (:data:`STYLE`); one colour per law
   (:func:`law_color`), :data:`SERIES_COLORS` for curves that are not a law,
-  :data:`REFERENCE_COLOR` for theory, :func:`equal_panels` (equal boxes, aligned titles),
+  :data:`REFERENCE_COLOR` for theory, :func:`equal_windows`, :func:`equal_panels` (equal boxes, aligned titles),
   :func:`frame_legend` (framed, off the data): module :mod:`noslipsim.plot.style`;
 - :func:`draw_table`: a table, every element kind, periodic scenes as a patch
   of cells (:func:`scene_of` rebuilds a scene from a dataset's ``scene``
@@ -45,6 +45,7 @@ from .style import (
            SERIES_COLORS,
            STYLE,
            equal_panels,
+    equal_windows,
            frame_legend,
            law_color,
            style_context,
@@ -60,4 +61,4 @@ __all__ += ["draw_angle", "draw_ray", "label_point", "sphere_path"]
 __all__ += ["draw_class_boundary", "draw_deviation", "draw_return_points", "draw_two_disk_setup", "return_points"]
 __all__ += ["draw_birkhoff", "draw_layered_portrait", "draw_reduced_portrait", "orbit_colors"]
 __all__ += ["EmptyFigureError", "load_figure_data", "require_points"]
-__all__ += ["REFERENCE_COLOR", "SEA_COLOR", "SERIES_COLORS", "equal_panels", "frame_legend"]
+__all__ += ["REFERENCE_COLOR", "SEA_COLOR", "SERIES_COLORS", "equal_panels", "equal_windows", "frame_legend"]

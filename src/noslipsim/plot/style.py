@@ -16,9 +16,9 @@ draw with these, never with colours or sizes of their own:
   (walls, disks, the opaque shade behind an infinite wall);
 - :data:`REFERENCE_COLOR`: theory and the paper's values (lines to compare
   against);
-- :func:`equal_panels`: panels of one figure drawn with the same data window
-  size, so that panels with an equal aspect ratio have equal boxes and their
-  titles line up;
+- :func:`equal_windows`, :func:`equal_panels`: windows of one shape (or one
+  size) for the panels of a figure, so that panels drawn to scale have equal
+  boxes and their titles line up;
 - :func:`frame_legend`: a framed legend placed off the data.
 """
 from __future__ import annotations
@@ -99,40 +99,86 @@ def orbit_colors(n):
     return base[order][np.arange(int(n)) % len(base)]
 
 
-def equal_panels(axes, *, margin=0.04):
-    """Give every panel the same data window size, centred on its own content.
+def equal_windows(windows, *, same_scale=False, aspect=None, margin=0.0):
+    """Windows ``(x0, x1, y0, y1)`` widened so that panels drawn from them have equal boxes.
 
-    With an equal aspect ratio (tables drawn to scale) matplotlib shrinks a
-    panel whose window is narrower or taller than its neighbours', so boxes
-    differ in size and titles sit at different heights.  This widens each
-    panel's window to the largest width and the largest height among
-    ``axes`` (keeping its centre), so all boxes are equal and titles align.
+    With an equal aspect ratio (tables drawn to scale) a panel's box has the
+    shape of its window, so windows of different shapes give boxes of
+    different sizes and titles at different heights.  Compute the windows
+    first, pass them here, then draw each panel in its returned window (a
+    table's shaded walls then fill the whole box).
+
+    Parameters
+    ----------
+    windows : sequence of (x0, x1, y0, y1)
+        Each panel's content (x0 < x1, y0 < y1).
+    same_scale : bool
+        ``True``: every window gets the largest width and the largest height
+        (one scale for all panels).  ``False``: each window keeps its scale
+        and grows in one direction to the common shape ``aspect``.
+    aspect : float, optional
+        The common shape, height / width (> 0); default the tallest window's.
+    margin : float
+        Extra room on each side, as a share of the window's size (>= 0).
+
+    Returns
+    -------
+    list of (float, float, float, float)
+        The windows, each centred on its content.
+    """
+    boxes = [tuple(float(v) for v in w) for w in windows]
+    if not boxes:
+        raise ValueError("windows: expected at least one window, got none")
+    for w in boxes:
+        if len(w) != 4 or not all(np.isfinite(w)) or not (w[0] < w[1] and w[2] < w[3]):
+            raise ValueError(f"windows: expected (x0, x1, y0, y1) with x0 < x1 and y0 < y1, got {w}")
+    if not (np.isfinite(margin) and margin >= 0):
+        raise ValueError(f"margin: expected a finite number >= 0, got {margin!r}")
+    if aspect is None:
+        aspect = max((y1 - y0) / (x1 - x0) for x0, x1, y0, y1 in boxes)
+    elif not (np.isfinite(aspect) and aspect > 0):
+        raise ValueError(f"aspect: expected a finite number > 0, got {aspect!r}")
+    sizes = [(x1 - x0, y1 - y0) for x0, x1, y0, y1 in boxes]
+    if same_scale:
+        common = (max(w for w, _ in sizes), max(h for _, h in sizes))
+        sizes = [common] * len(boxes)
+    else:
+        sizes = [(max(w, h / aspect), max(h, w * aspect)) for w, h in sizes]
+    out = []
+    for (x0, x1, y0, y1), (w, h) in zip(boxes, sizes):
+        cx, cy, w, h = 0.5 * (x0 + x1), 0.5 * (y0 + y1), w * (1 + 2 * margin), h * (1 + 2 * margin)
+        out.append((cx - 0.5 * w, cx + 0.5 * w, cy - 0.5 * h, cy + 0.5 * h))
+    return out
+
+
+def equal_panels(axes, *, same_scale=True, margin=0.04):
+    """Give drawn panels equal boxes: :func:`equal_windows` applied to their current limits.
+
+    For panels whose content stops inside the window (orbits, polygons); a
+    table with shaded walls must be drawn in windows from
+    :func:`equal_windows` instead, or its shade ends inside the box.
 
     Parameters
     ----------
     axes : sequence of matplotlib.axes.Axes
         The panels, already drawn (their current limits are the content).
-    margin : float
-        Extra room on each side, as a share of the common size (>= 0).
+    same_scale, margin
+        As for :func:`equal_windows`.
 
     Returns
     -------
-    (float, float)
-        The common window width and height (data units).
+    list of (float, float, float, float)
+        The windows set.
     """
     axes = list(np.ravel(axes))
     if not axes:
         raise ValueError("axes: expected at least one panel, got none")
-    if not (np.isfinite(margin) and margin >= 0):
-        raise ValueError(f"margin: expected a finite number >= 0, got {margin!r}")
-    limits = [(ax.get_xlim(), ax.get_ylim()) for ax in axes]
-    width = max(abs(x1 - x0) for (x0, x1), _ in limits) * (1 + 2 * margin)
-    height = max(abs(y1 - y0) for _, (y0, y1) in limits) * (1 + 2 * margin)
-    for ax, ((x0, x1), (y0, y1)) in zip(axes, limits):
-        cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
-        ax.set_xlim(cx - 0.5 * width, cx + 0.5 * width)
-        ax.set_ylim(cy - 0.5 * height, cy + 0.5 * height)
-    return width, height
+    limits = [(*sorted(ax.get_xlim()), *sorted(ax.get_ylim())) for ax in axes]
+    windows = equal_windows(limits, same_scale=same_scale, margin=margin)
+    for ax, (x0, x1, y0, y1) in zip(axes, windows):
+        ax.set_xlim(x0, x1)
+        ax.set_ylim(y0, y1)
+    return windows
 
 
 def frame_legend(target, *, outside="below", ncol=None, **kwargs):
