@@ -26,6 +26,8 @@ Figure scripts read datasets and draw with these; they never simulate.
 - :func:`load_figure_data`, :func:`require_points`: a figure's dataset, refused when it holds
   nothing to draw (:class:`EmptyFigureError`);
 - :func:`numbers_markdown`: the table of the paper's computed numbers.
+- :mod:`noslipsim.plot.prose` (imported on its own): numbers quoted in prose, marked with their
+  record of ``figures/numbers.json`` and checked against it.
 """
 from .annotate import draw_angle, draw_ray, label_point
 from .checks import EmptyFigureError, load_figure_data, require_points
