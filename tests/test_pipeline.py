@@ -384,9 +384,30 @@ def test_lint_is_clean(repo):
     assert "Lints for" not in out.stdout + out.stderr and "Congratulations" in out.stdout + out.stderr
 
 
+#: What docutils writes for a problem in a caption: into the HTML as a system message, and to the log.
+CAPTION_PROBLEMS = r"\((?:INFO|WARNING|ERROR|SEVERE)/\d\)|system-message|System Message|Undefined substitution"
+#: ... and what else a failing report build writes to its log (the HTML holds "Traceback" in its style sheet).
+LOG_PROBLEMS = re.compile(CAPTION_PROBLEMS + r"|Traceback|^WARNING|^Warning|^Error", re.M)
+
+
+def test_every_caption_is_clean_restructuredtext():
+    """Each report caption renders with docutils without a message (``|x|`` is a substitution: write ``\\|x\\|``)."""
+    import io
+
+    from docutils.core import publish_parts
+
+    for rst in sorted((ROOT / "workflow" / "report").glob("*.rst")):
+        log = io.StringIO()
+        publish_parts(rst.read_text(encoding="utf-8"), source_path=str(rst), writer_name="html",
+                      settings_overrides={"warning_stream": log, "report_level": 1, "halt_level": 5})
+        assert log.getvalue() == "", f"{rst.name}: {log.getvalue()}"
+
+
 def test_report_holds_every_figure_with_its_caption(repo):
-    snakemake(repo, "--report", "report.html")
+    out = snakemake(repo, "--report", "report.html")
     html = (repo / ".test" / "report.html").read_text(encoding="utf-8", errors="replace")
+    problems = LOG_PROBLEMS.findall(out.stdout + out.stderr) + re.findall(CAPTION_PROBLEMS, html)
+    assert not problems, f"the report build warned: {problems}\n{out.stderr[-3000:]}"
     for caption in sorted((ROOT / "workflow" / "report").glob("fig*.rst")):
         assert caption.stem in html
         title = re.search(r"\*\*(Figure [^*]+)\*\*", caption.read_text(encoding="utf-8")).group(1)
