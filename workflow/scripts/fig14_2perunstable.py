@@ -73,7 +73,9 @@ for j in range(n):  # each launch angle as a dot on the curve, so that the theta
               markeredgecolor="k", markeredgewidth=0.4, zorder=4)
 for ax in (wide, zoom):
     ax.axvline(t_star, color="k", linewidth=0.9, linestyle="--", zorder=5)
-zoom.annotate(f"$\\theta^* = {t_star:.6f}$\n$= \\pi/2 - \\pi/7$", xy=(t_star, ys.min() + 0.01),
+past = float(ds.theta[0]) - t_star
+zoom.annotate(f"$\\theta^* = {t_star:.6f}$\n$= \\pi/2 - \\pi/7$\n({float(ds.theta[0]):g} is {past:.1e} past it)",
+              xy=(t_star, ys.min() + 0.01),
               xytext=(4, 0), textcoords="offset points", fontsize=7, ha="left", va="bottom")
 zoom.set_title(f"elliptic below $\\theta^* = {t_star:.6f}$", fontsize=7.5)
 wide.set_ylim(-2.2, 8.0)
