@@ -192,6 +192,8 @@ VARIABLES = {
     "reading_options": ("the reading's options as JSON (keys of experiments.readings.BASE)", "1"),
     "collision_cap": ("collisions a run may reach (survived: reached it)", "1"),
     "launched": ("1 if the reading launches an orbit at this theta, else 0 (elevation outside (0, pi/2))", "1"),
+    "theta_read": ("the paper's launch angle theta, as each reading reads it (launch_elevation: the elevation it "
+                   "gives)", "rad"),
     "launch_elevation": ("elevation of the launch at q0 above the chord q0 q1", "rad"),
     "position_angle": ("angle of q0 above the horizontal, seen from the left disk's centre", "rad"),
     # ------------------------------------------------ analysis: regular orbits (analysis.islands)

@@ -8,7 +8,7 @@ from noslipsim.experiments import stability_readings
 
 run = snakemake.params.run
 ds = stability_readings(radii=run["radii"], n_theta=run["n_theta"])
-print(f"{ds.sizes['reading']} readings x {ds.sizes['radius']} radii x {ds.sizes['theta']} launch angles",
+print(f"{ds.sizes['reading']} readings x {ds.sizes['radius']} radii x {ds.sizes['theta_read']} launch angles",
       file=sys.stderr)
 write_dataset(ds, snakemake.output.readings, config={"stability": {"readings": run}},
               history=f"snakemake rule {snakemake.rule} (workflow/scripts/stability_readings.py)")

@@ -238,10 +238,11 @@ def stability_readings(readings=None, *, radii=(0.15, 0.3, 0.45, 0.7, 0.9), thet
     Returns
     -------
     xarray.Dataset
-        Dims ``(reading, radius, theta)``: ``n_collisions`` (collisions
+        Dims ``(reading, radius, theta_read)`` (``theta_read``: the paper's
+        ``theta``, read as each reading says): ``n_collisions`` (collisions
         survived, -1 where nothing is launched), ``survived`` (1 at the cap,
         0 before, -1 where nothing is launched), ``launched``;
-        ``launch_elevation`` (``(reading, theta)``, the launch's elevation
+        ``launch_elevation`` (``(reading, theta_read)``, the launch's elevation
         above the chord, the same at every radius);
         along ``reading``: ``reading_description``, ``collision_cap``,
         ``gamma``, ``position_angle`` and the reading's options as JSON
@@ -296,19 +297,17 @@ def stability_readings(readings=None, *, radii=(0.15, 0.3, 0.45, 0.7, 0.9), thet
     cap = np.array(caps)[:, None, None]
     survived = np.where(n_coll < 0, -1, (n_coll >= cap).astype(np.int64)).astype(np.int8)
     ds = xr.Dataset(
-        {"n_collisions": (("reading", "radius", "theta"), n_coll),
-         "survived": (("reading", "radius", "theta"), survived),
-         "launched": (("reading", "radius", "theta"), (n_coll >= 0).astype(np.int8)),
-         "launch_elevation": (("reading", "theta"), elevation),
+        {"n_collisions": (("reading", "radius", "theta_read"), n_coll),
+         "survived": (("reading", "radius", "theta_read"), survived),
+         "launched": (("reading", "radius", "theta_read"), (n_coll >= 0).astype(np.int8)),
+         "launch_elevation": (("reading", "theta_read"), elevation),
          "reading_description": ("reading", np.array(descriptions, dtype=object)),
          "reading_options": ("reading", np.array([json.dumps(o, sort_keys=True) for o in opts], dtype=object)),
          "collision_cap": ("reading", np.array(caps, dtype=np.int64)),
          "gamma": ("reading", np.array(gammas)),
          "position_angle": ("reading", np.array(positions))},
-        coords={"reading": np.array(names, dtype=object), "radius": radii, "theta": thetas,
+        coords={"reading": np.array(names, dtype=object), "radius": radii, "theta_read": thetas,
                 "curvature": ("radius", 1.0 / radii)})
-    ds["theta"].attrs.update(long_name="the paper's launch angle theta, as each reading reads it (the elevation "
-                                       "it gives: launch_elevation)", units="rad")
     ds.attrs.update(title="Figure 15, lower right: survival along theta under each reading of the paper",
                     law="no-slip", gravity=float(gravity), force=[0.0, -float(gravity)],
                     base=json.dumps(BASE, sort_keys=True),
@@ -368,7 +367,7 @@ def readings_pattern(ds, reading, radius, *, min_run=2):
         ``theta = 1.3`` survived.
     """
     row = ds.survived.sel(reading=reading, radius=radius).values
-    theta = ds.theta.values
+    theta = ds.theta_read.values
     states = ["x" if x < 0 else ("s" if x else "u") for x in row]
     runs = _runs(states, min_run)
     edges = np.r_[theta[0], 0.5 * (theta[1:] + theta[:-1]), theta[-1]]
