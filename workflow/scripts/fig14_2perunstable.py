@@ -46,7 +46,9 @@ for j in range(n):
     o = ds.isel(orbit=n + j)
     plot.draw_deviation(growth, o, lambda_max=float(o.lambda_max), anchor=ANCHOR, color=COLORS[j % len(COLORS)],
                         label=f"{float(o.theta):.3f}")
-growth.legend(title="$\\theta$", fontsize=6.5, title_fontsize=7, loc="lower right", ncol=2)
+growth.set_ylim(1e-6, 3.0)   # room below the data for the legend
+growth.legend(title="$\\theta$", fontsize=6.5, title_fontsize=7, loc="lower right", ncol=3, frameon=True,
+              columnspacing=0.8, handlelength=1.2)
 growth.set_ylabel("distance $\\delta_k$ from the periodic orbit\n"
                   "$\\max(|\\Delta s|/\\ell,\\,|\\Delta w|/V,\\,|\\Delta v_t|/V)$", fontsize=7)
 angle = json.loads(ds.attrs["perturbation"])["angle"]
@@ -74,9 +76,8 @@ for j in range(n):  # each launch angle as a dot on the curve, so that the theta
 for ax in (wide, zoom):
     ax.axvline(t_star, color="k", linewidth=0.9, linestyle="--", zorder=5)
 past = float(ds.theta[0]) - t_star
-zoom.annotate(f"$\\theta^* = {t_star:.6f}$\n$= \\pi/2 - \\pi/7$\n({float(ds.theta[0]):g} is {past:.1e} past it)",
-              xy=(t_star, ys.min() + 0.01),
-              xytext=(4, 0), textcoords="offset points", fontsize=7, ha="left", va="bottom")
+zoom.text(0.98, 0.03, f"$\\theta^* = {t_star:.6f}$\n$= \\pi/2 - \\pi/7$\n{float(ds.theta[0]):g}: $+${past:.1e}",
+          transform=zoom.transAxes, fontsize=6, ha="right", va="bottom")
 zoom.set_title(f"elliptic below $\\theta^* = {t_star:.6f}$", fontsize=7.5)
 wide.set_ylim(-2.2, 8.0)
 wide.axhline(-2.0, color="0.3", linewidth=0.5, linestyle=":")
