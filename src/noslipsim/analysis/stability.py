@@ -264,7 +264,7 @@ def agreement_share(ds):
     return float(((ell & survived) | (hyp & ~survived)).sum() / decided.sum())
 
 
-def elliptic_boundary(ds, *, margin=0.05):
+def elliptic_boundary(ds: xr.Dataset, *, margin: float = 0.05) -> xr.Dataset:
     r"""Where the elliptic region of an R x phi grid begins, column by column, and its distance from R*(phi).
 
     Along each column (fixed ``phi``) ``lambda + 1/lambda`` of the

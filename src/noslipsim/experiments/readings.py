@@ -215,8 +215,9 @@ def _survival(scene, starts, opt):
     return out
 
 
-def stability_readings(readings=None, *, radii=(0.15, 0.3, 0.45, 0.7, 0.9), thetas=None, n_theta=63,
-                       gravity=1.0):
+def stability_readings(readings: Mapping | None = None, *, radii: Sequence[float] = (0.15, 0.3, 0.45, 0.7, 0.9),
+                       thetas: Sequence[float] | np.ndarray | None = None, n_theta: int = 63,
+                       gravity: float = 1.0) -> xr.Dataset:
     r"""Survival scans along ``theta`` for each reading of Figure 15's lower right.
 
     Parameters
@@ -354,7 +355,7 @@ def _launched(pattern):
     return "-".join(out)
 
 
-def readings_pattern(ds, reading, radius, *, min_run=2):
+def readings_pattern(ds: xr.Dataset, reading: str, radius: float, *, min_run: int = 2) -> dict:
     """The survival pattern along ``theta`` of one reading at one radius.
 
     Returns
@@ -377,12 +378,12 @@ def readings_pattern(ds, reading, radius, *, min_run=2):
             "stable_near_1_3": bool(row[k13] == 1)}
 
 
-def paper_pattern(pattern):
+def paper_pattern(pattern: Mapping) -> bool:
     """Whether a :func:`readings_pattern` is the paper's: stable -> unstable -> stable, stable near theta = 1.3."""
     return pattern["stable_near_1_3"] and _launched(pattern["pattern"]).startswith("s-u-s")
 
 
-def readings_table(ds, *, min_run=2):
+def readings_table(ds: xr.Dataset, *, min_run: int = 2) -> str:
     """The readings as a Markdown table: one row per reading, one column per radius.
 
     A cell is the pattern along ``theta`` (``s`` survived the cap, ``u``
@@ -420,7 +421,7 @@ def readings_table(ds, *, min_run=2):
     return "\n".join(rows) + "\n"
 
 
-def main(argv=None):
+def main(argv: Sequence[str] | None = None) -> None:
     """``python -m noslipsim.experiments.readings --out DIR``: write readings.nc and readings.md."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, required=True, help="directory for readings.nc and readings.md")
