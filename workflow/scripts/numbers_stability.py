@@ -64,7 +64,9 @@ near_13 = np.abs(ds.eigen_sum.values + 1.0) < 0.2
 numbers["noforce_clears_far_disk"] = dict(
     description="no force: grid points where the velocity turned up by the perturbation passes over the far disk, "
                 "δ(1 - R cos φ) > R(1 - sin φ) (the white strip near φ = π/2 and the grazing corner), that end "
-                "with 0 collisions", value=float((ds.n_collisions.values[clears] == 0).mean()), format=".1%",
+                "with 0 collisions",
+    value=float((ds.n_collisions.values[clears] == 0).mean()) if clears.any() else "no such point in this grid",
+    format=".1%",
     paper="samples near φ = π/2, nearly tangent, have a noticeable experimental error",
     note=(f"{int(clears.sum())} points; they are {int((escaped_elliptic & clears).sum())} of the "
           f"{int(escaped_elliptic.sum())} elliptic points that escape; of the rest, "
