@@ -277,7 +277,7 @@ def elliptic_boundary(ds: xr.Dataset, *, margin: float = 0.05) -> xr.Dataset:
 
     .. math::
 
-        \Delta(arphi) = R^*(arphi) - R_e(arphi)
+        \Delta(\varphi) = R^*(\varphi) - R_e(\varphi)
 
     says how far the force moves the threshold (positive: the elliptic
     region reaches smaller disks).  Columns with ``phi + theta`` within
