@@ -54,7 +54,7 @@ def test_docs_build_without_warnings(built_docs):
     assert run.returncode == 0, run.stdout + run.stderr
     assert "WARNING" not in run.stderr and "ERROR" not in run.stderr, run.stderr
     for page in ["index", "getting-started", "tutorial", "explorer", "conventions", "scenes", "datasets", "algorithm",
-                 "analysis", "errata", "api"]:
+                 "analysis", "figures", "errata", "api"]:
         assert (out / f"{page}.html").is_file(), page
 
 

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 import xarray as xr
 from matplotlib.collections import LineCollection, PatchCollection
+from matplotlib.patches import Circle as CirclePatch
 from matplotlib.patches import FancyArrowPatch
 
 import noslipsim as ns
@@ -41,6 +42,31 @@ def test_every_element_kind_draws(ax):
     # the shaded side of the floor is below it: y <= 0
     shade = fills[0].get_paths()[0].vertices
     assert shade[:, 1].max() <= 0 and shade[:, 1].min() == -1
+
+
+def test_wedge_walls_stop_at_the_vertex_and_shades_are_opaque(ax):
+    # a wedge opening up with its vertex at the origin (y >= |x| tan 0.4), as two infinite lines
+    a = 0.4
+    left, right = Line((0.0, 0.0), (math.sin(a), math.cos(a))), Line((0.0, 0.0), (-math.sin(a), math.cos(a)))
+    for scene in (ns.Scene((left, right)), ns.Scene((right, left))):
+        ax.clear()
+        plot.draw_table(ax, scene, window=(-2, 2, -1, 2))
+        (walls,) = [c for c in ax.collections if isinstance(c, LineCollection)]
+        for seg in walls.get_segments():
+            assert seg[:, 1].min() == pytest.approx(0.0, abs=1e-12)    # ends at the vertex, not below it
+            assert np.all(seg[:, 1] >= -1e-12)
+        shades = next(c for c in ax.collections if isinstance(c, PatchCollection))
+        assert shades.get_alpha() is None                               # overlapping shades show no darker patch
+    shapes = plot.table_shapes(ns.Scene((left, right)), (-2, 2, -1, 2))
+    assert all(min(ys) == pytest.approx(0.0, abs=1e-12) for _, ys in shapes["walls"])
+
+
+def test_line_shut_out_by_another_line_draws_no_chord(ax):
+    # two parallel floors: the lower one is behind the upper one everywhere, so it bounds nothing
+    scene = ns.Scene((Line((0.0, 0.0), (0.0, 1.0)), Line((0.0, -0.5), (0.0, 1.0)), Circle((0.0, 1.0), 0.2)))
+    plot.draw_table(ax, scene, window=(-1, 1, -1, 2))
+    (walls,) = [c for c in ax.collections if isinstance(c, LineCollection)]
+    assert len(walls.get_segments()) == 1 and np.allclose(walls.get_segments()[0][:, 1], 0.0)
 
 
 def test_line_outside_the_window_draws_no_chord(ax):
@@ -148,8 +174,39 @@ def test_orbit_draws_spin_markers_and_end_dots(ax):
     orbit = ns.simulate(scene, (0.05, 0.5), (1.0, 0.37), 0.5, max_collisions=6)
     line = plot.draw_orbit(ax, orbit, spin_every=2)
     assert line.get_color() == plot.LAW_COLORS["no-slip"]
-    assert len([p for p in ax.patches if isinstance(p, FancyArrowPatch)]) == 4   # flights 0, 2, 4, 6
+    assert orbit.t_final == orbit.t[-1]                                # flight 6 has zero length: no room
+    assert len([p for p in ax.patches if isinstance(p, FancyArrowPatch)]) == 3   # flights 0, 2, 4
     assert len(ax.lines) == 3                                          # the path and two end dots
+
+
+def _spin_centres(ax):
+    return np.array([p.center for p in ax.patches if isinstance(p, CirclePatch)])
+
+
+def test_spin_markers_neither_overlap_nor_cross_walls(ax):
+    scene = tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.3)])
+    orbit = ns.simulate(scene, (0.05, 0.5), (1.0, 0.37), 0.5, max_collisions=60)
+    r = 0.08
+    plot.draw_orbit(ax, orbit, spin_every=1, spin_radius=r)
+    c = _spin_centres(ax)
+    assert 10 <= len(c) < 61                                           # many flights hold one, not all
+    gaps = np.hypot(*(c[:, None, :] - c[None, :, :]).transpose(2, 0, 1))
+    assert gaps[~np.eye(len(c), dtype=bool)].min() >= 2 * r             # no two markers overlap
+    to_walls = np.min([c[:, 0], 2.0 - c[:, 0], c[:, 1], 1.0 - c[:, 1],
+                       np.abs(np.hypot(c[:, 0] - 1.0, c[:, 1] - 0.5) - 0.3)], axis=0)
+    assert to_walls.min() >= r                                          # no marker crosses a wall
+    arrows = [p for p in ax.patches if isinstance(p, FancyArrowPatch)]
+    assert arrows and all(a.get_mutation_scale() >= 6 for a in arrows)  # heads readable in print
+
+
+def test_a_repeated_flight_gets_one_spin_marker(ax):
+    # the bouncing ball's 2-periodic orbit flies the same two arcs again and again
+    gamma = 1 / math.sqrt(2)
+    scene = ns.Scene((Line((0.0, 0.0), (0.0, 1.0)),), force=(0.0, -1.0), gamma=gamma)
+    orbit = ns.simulate(scene, (0.0, 0.5), (0.5, 0.0), 0.5 / gamma, max_collisions=20)   # w = v_x / gamma
+    np.testing.assert_allclose(orbit.x.values[:4], [0.5, -0.5, 0.5, -0.5], atol=1e-9)
+    plot.draw_orbit(ax, orbit, spin_every=1, spin_radius=0.05)
+    assert 2 <= len(_spin_centres(ax)) <= 4
 
 
 def test_portrait_on_the_unit_disk(ax):

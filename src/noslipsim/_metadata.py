@@ -93,8 +93,6 @@ VARIABLES = {
     "sides": ("number of sides of the polygon", "1"),
     "cell": ("closed: hexagonal cell with no-slip walls; periodic: the hexagonal Lorentz gas (both free fall)",
              "1"),
-    "reading": ("a reading of Figure 13's table (closed, specular, periodic, thermostat; "
-                "experiments.HEX_READINGS)", "1"),
     "reading_table": ("the table, collision law and flight of the reading", "1"),
     "s_boundary": ("arclength along the boundary (chosen elements end to end, scene order)", "1"),
     "sin_angle": ("Birkhoff p: sine of the exit angle to the inward normal, positive along increasing s "
@@ -189,6 +187,17 @@ VARIABLES = {
     "chord_length": ("distance d = |q0 q1| = 2 - 2 R cos(phi)", "1"),
     "radius_threshold": ("force-free ellipticity threshold R*(phi): elliptic iff R > R* (closed form; a reference "
                          "only under gravity)", "1"),
+    # ------------------------------------------------ experiments.readings: Figure 15 under other readings
+    "reading": ("name of a reading of one of the paper's experiments (Figure 15: experiments.readings.READINGS; "
+                "Figure 13's table: experiments.HEX_READINGS)", "1"),
+    "reading_description": ("what the reading changes from ours, in words", "1"),
+    "reading_options": ("the reading's options as JSON (keys of experiments.readings.BASE)", "1"),
+    "collision_cap": ("collisions a run may reach (survived: reached it)", "1"),
+    "launched": ("1 if the reading launches an orbit at this theta, else 0 (elevation outside (0, pi/2))", "1"),
+    "theta_read": ("the paper's launch angle theta, as each reading reads it (launch_elevation: the elevation it "
+                   "gives)", "rad"),
+    "launch_elevation": ("elevation of the launch at q0 above the chord q0 q1", "rad"),
+    "position_angle": ("angle of q0 above the horizontal, seen from the left disk's centre", "rad"),
     # ------------------------------------------------ analysis: regular orbits (analysis.islands)
     "regular": ("1 if ftle < the dataset's regular_threshold (an orbit on an invariant torus), else 0", "1"),
     "share_regular": ("share of orbits with ftle < regular_threshold (regular)", "1"),

@@ -124,6 +124,9 @@ DATASETS = {
                                      lambda: {"common": stability_common(),
                                               "run": section("stability.launch", only=("ell", "thetas", "scan"))}),
     **{f"stability_grid_{kind}": _grid(kind) for kind in ("noforce", "force", "theta")},
+    # Figure 15 under every reading (target `readings`, not in `all`)
+    "stability_readings": dataset("stability", "readings.nc", "readings", "stability_readings",
+                                  lambda: {"run": section("stability.readings", without=("min_run",))}),
 }
 
 

@@ -37,3 +37,20 @@ for subject, spec in NUMBERS.items():
             SOFTWARE
         script:
             script_of(vars().get("rule"), f"numbers_{subject}")
+
+
+rule readings:
+    # Figure 15 under every reading a referee would try (docs/analysis.md): `snakemake -j2 readings`.
+    input:
+        readings=dataset_file("stability_readings"),
+    output:
+        table="results/stability/readings.md",
+    params:
+        min_run=config["stability"]["readings"]["min_run"],
+    log:
+        log_file("readings"),
+    threads: 1
+    conda:
+        SOFTWARE
+    script:
+        "../scripts/readings_table.py"

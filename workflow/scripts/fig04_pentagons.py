@@ -25,6 +25,7 @@ for ax, (role, title) in zip(axes, panels):
     ax.set_title(title)
     ax.set_axis_off()
 plot.draw_orbit(axes[2], orbit["no-slip periodic"], color="k", linewidth=0.6, ends=False, zorder=3)
+plot.equal_panels(axes)  # equal boxes, titles in line
 axes[2].text(0.5, -0.02, f"{ds.periodic_kind.values!s}, rotation {float(ds.rotation_angle):.3f} rad; "
              f"perturbed by {ds.attrs['perturbation']:g} rad", transform=axes[2].transAxes, ha="center",
              va="top", fontsize=7)

@@ -38,9 +38,13 @@ for ax, i in zip(axes, range(ds.sizes["orbit"])):
     plot.draw_angle(ax, q0, 0.0, theta, 0.18 * size, r"$\theta$", label_distance=1.5)
     plot.label_point(ax, q0, r"$\mathbf{q}_0$", offset=(-6, 3), ha="right")
     plot.label_point(ax, q1, r"$\mathbf{q}_1$", offset=(6, 3))
-    gx, gy = 0.12 * size, y.max() + 0.07 * size                          # gravity: above the flight's apex
-    ax.annotate("", xy=(gx, gy), xytext=(gx, gy + 0.25 * size), arrowprops=dict(arrowstyle="-|>", color="k"))
-    ax.text(gx + 0.04 * size, gy + 0.12 * size, r"$\mathbf{g}$", va="center")
+    fx, fy = plot.scene_of(o).force
+    if fx or fy:                                                         # the force's arrow, above the apex
+        gx, gy, f = 0.12 * size, y.max() + 0.32 * size, math.hypot(fx, fy)
+        tip = (gx + 0.25 * size * fx / f, gy + 0.25 * size * fy / f)
+        ax.annotate("", xy=tip, xytext=(gx, gy), arrowprops=dict(arrowstyle="-|>", color="k"))
+        ax.text(max(gx, tip[0]) + 0.04 * size, 0.5 * (gy + tip[1]), r"$\mathbf{g}$", va="center")
     ax.set_title("wedge" if str(o.role.values) == "wedge" else "tangential wedge on a two-disk table")
     ax.set_axis_off()
+fig.align_titles()
 plot.save_figure(fig, snakemake.output.pdf)

@@ -13,7 +13,6 @@ import numpy as np
 from noslipsim import plot
 
 MARGIN = 0.12  # share of the orbits' extent shown around them
-COLORS = ["#0072B2", "#D55E00", "#009E73", "#CC79A7"]
 
 ds = plot.load_figure_data(snakemake.input.orbits)
 cases = ds.case.values.astype(str)
@@ -35,17 +34,22 @@ def describe(o):
 
 plot.use_style()
 fig, axes = plt.subplots(1, len(panels), figsize=(6.5, 2.1))
-for ax, (title, rows) in zip(np.atleast_1d(axes), panels):
+windows = []
+for _, rows in panels:
     paths = [plot.orbit_path(ds.isel(orbit=int(i))) for i in rows]
     x = np.concatenate([p[0] for p in paths] + [[0.0]])   # the vertex at the origin stays in view
     y = np.concatenate([p[1] for p in paths] + [[0.0]])
     pad = MARGIN * max(np.ptp(x), np.ptp(y))
     half = max(np.abs(x).max(), 0.5 * (np.ptp(y) + 2 * pad)) + pad   # centred on the bisector
-    window = (-half, half, y.min() - pad, y.max() + pad)
+    windows.append((-half, half, y.min() - pad, y.max() + pad))
+windows = plot.equal_windows(windows)  # one box shape for all: equal panels, titles in line
+for ax, (title, rows), window in zip(np.atleast_1d(axes), panels, windows):
     plot.draw_table(ax, ds.isel(orbit=int(rows[0])), window)
     for k, i in enumerate(rows):
         o = ds.isel(orbit=int(i))
-        plot.draw_orbit(ax, o, color=COLORS[k % len(COLORS)], linewidth=0.9, ends=False)
+        # several launch angles: one series colour each; a single orbit: its law's colour
+        color = plot.SERIES_COLORS[k % len(plot.SERIES_COLORS)] if len(rows) > 1 else None
+        plot.draw_orbit(ax, o, color=color, linewidth=0.9, ends=False)
     if len(rows) > 1:
         note = "\n$\\theta$ = " + ", ".join(f"{float(ds.theta[i]):g}" for i in rows)
     else:

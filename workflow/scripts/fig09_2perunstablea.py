@@ -22,14 +22,18 @@ ds = plot.load_figure_data(snakemake.input.orbits)
 n = ds.sizes["orbit"] // 2
 plot.use_style()
 fig, axes = plt.subplots(2, n, figsize=(6.5, 3.9), height_ratios=[1.0, 1.0], squeeze=False)
+windows = []
 for j in range(n):
-    periodic, perturbed = ds.isel(orbit=j), ds.isel(orbit=n + j)
-    x, y = plot.orbit_path(perturbed)
+    x, y = plot.orbit_path(ds.isel(orbit=n + j))
     x, y = np.append(x, 0.0), np.append(y, 0.0)   # the vertex (origin) stays in view
     pad = MARGIN * max(np.ptp(x), np.ptp(y))
     half = max(np.abs(x).max(), 0.5 * np.ptp(y)) + pad
+    windows.append((-half, half, y.min() - pad, y.max() + pad))
+windows = plot.equal_windows(windows)  # one box shape for the top row: equal panels, titles in line
+for j in range(n):
+    periodic, perturbed = ds.isel(orbit=j), ds.isel(orbit=n + j)
     top = axes[0, j]
-    plot.draw_table(top, periodic, (-half, half, y.min() - pad, y.max() + pad))
+    plot.draw_table(top, periodic, windows[j])
     plot.draw_orbit(top, perturbed, color="0.55", linewidth=0.15, ends=False)
     plot.draw_orbit(top, periodic, linewidth=1.0, ends=False, zorder=3)
     top.set_xticks([])

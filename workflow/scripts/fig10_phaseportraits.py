@@ -27,12 +27,13 @@ left.set_title(f"(a) specular lemon\nregular {float(lemon.regular.mean()):.0%}",
 plot.draw_reduced_portrait(centre, sinai, sinai.regular, size=0.15, sea_alpha=0.06)
 centre.view_init(elev=18, azim=-62)
 centre.set_box_aspect((1.7, 1.0, 1.0), zoom=0.85)
-centre.set(yticks=[-1, 0, 1], zticks=[-1, 0, 1])
-centre.tick_params(labelsize=6, pad=-2)
-for axis, pad in ((centre.xaxis, -6), (centre.yaxis, -6), (centre.zaxis, -9)):
+centre.set(xticks=range(int(float(sinai.s_boundary.max())) + 1), yticks=[-1, 0, 1], zticks=[-1, 0, 1])
+centre.tick_params(labelsize=7, pad=-1)    # readable in print; the labels below stay clear of them
+for axis, pad in ((centre.xaxis, -2), (centre.yaxis, -3), (centre.zaxis, -9)):
     axis.labelpad = pad
 centre.set_title(f"(b) no-slip Sinai torus, $\\gamma$ = {gamma:.3g}:\nreduced portrait (ends identified)", fontsize=8)
 plot.draw_layered_portrait(right, sinai, sinai.regular, size=0.15)
 right.set_ylabel("$w$", labelpad=-3)
 right.set_title(f"(c) its velocity portrait\nregular {float(sinai.regular.mean()):.0%}", fontsize=8)
+fig.align_titles()
 plot.save_figure(fig, snakemake.output.pdf)  # writes the .pdf and the .png beside it

@@ -19,7 +19,7 @@ isl = islands_onsets(plot.load_figure_data(snakemake.input.islands), threshold, 
 n = ds.sizes["gamma"]
 
 plot.use_style()
-fig = plt.figure(figsize=(6.5, 4.1))
+fig = plt.figure(figsize=(6.5, 4.9))
 grid = fig.add_gridspec(2, n, height_ratios=[1.0, 1.1])
 for i, g in enumerate(ds.gamma.values):
     ax = fig.add_subplot(grid[0, i])
@@ -52,7 +52,8 @@ ax.set_title(f"share of {isl.attrs['n_orbits']} orbits (uniform in $ds\\,dv_t\\,
              f"exponent < {isl.attrs['regular_threshold']:g} per collision", fontsize=8)
 handles, labels = ax.get_legend_handles_labels()
 order = sorted(range(len(labels)), key=lambda i: (not labels[i].startswith("$R$"), i))  # the data first
-ax.legend([handles[i] for i in order], [labels[i] for i in order], loc="upper left", fontsize=6.5, ncol=2)
+ax.legend([handles[i] for i in order], [labels[i] for i in order], loc="upper center", bbox_to_anchor=(0.5, -0.22),
+          fontsize=6.5, ncol=3)  # framed (style), below the axis: off the data
 fig.suptitle(f"no-slip Sinai torus, scatterer radius $R$ = {ds.attrs['radius']:g} (unit torus); grey: chaotic "
              "orbits, colours: regular orbits", fontsize=8)
 plot.save_figure(fig, snakemake.output.pdf)  # writes the .pdf and the .png beside it

@@ -1,6 +1,8 @@
 """Figure 14: a wedge of full angle 2 pi/7 (half-angle pi/7); 2-periodic orbits launched at 1.122 ... 1.126 rad,
-each perturbed identically.  Top: the perturbed orbits; bottom: their distance from the periodic orbit against
-the collision number (dashed: the linear growth |lambda|^(k/2)), and lambda + 1/lambda along the launch angle."""
+each perturbed identically.  Top: the perturbed orbits (walls drawn from the vertex up); bottom: their distance
+delta_k from the periodic orbit against the collision number (dashed: the linear growth |lambda|^(k/2)), and
+lambda + 1/lambda along the launch angle, with theta* = pi/2 - pi/7 = 1.121997 (the elliptic -> hyperbolic
+transition) drawn on top of the five launch angles (dots on the curve)."""
 import json
 import sys
 
@@ -32,7 +34,7 @@ half = max(np.abs(p[0]).max() for p in paths) * 1.05
 for j in range(n):
     ax = fig.add_subplot(upper[0, j])
     periodic, perturbed = ds.isel(orbit=j), ds.isel(orbit=n + j)
-    plot.draw_table(ax, periodic, (-half, half, -0.05 * top, top))
+    plot.draw_table(ax, periodic, (-half, half, 0.0, top))  # the window starts at the vertex: walls stop there
     plot.draw_orbit(ax, perturbed, color="0.55", linewidth=0.2, ends=False)
     plot.draw_orbit(ax, periodic, color=COLORS[j % len(COLORS)], linewidth=1.0, ends=False, zorder=3)
     ax.set_title(f"$\\theta$ = {float(periodic.theta):.3f}\n$|\\lambda|$ = {float(periodic.lambda_max):.4f}",
@@ -44,7 +46,11 @@ for j in range(n):
     o = ds.isel(orbit=n + j)
     plot.draw_deviation(growth, o, lambda_max=float(o.lambda_max), anchor=ANCHOR, color=COLORS[j % len(COLORS)],
                         label=f"{float(o.theta):.3f}")
-growth.legend(title="$\\theta$", fontsize=6.5, title_fontsize=7, loc="lower right", ncol=2)
+growth.set_ylim(1e-6, 3.0)   # room below the data for the legend
+growth.legend(title="$\\theta$", fontsize=6.5, title_fontsize=7, loc="lower right", ncol=3, frameon=True,
+              columnspacing=0.8, handlelength=1.2)
+growth.set_ylabel("distance $\\delta_k$ from the periodic orbit\n"
+                  "$\\max(|\\Delta s|/\\ell,\\,|\\Delta w|/V,\\,|\\Delta v_t|/V)$", fontsize=7)
 angle = json.loads(ds.attrs["perturbation"])["angle"]
 growth.set_title(f"velocity turned by {angle:g} rad", fontsize=7.5)
 for ax in (wide, zoom):
@@ -59,15 +65,20 @@ for ax in (wide, zoom):
     ax.axhline(2.0, color="0.3", linewidth=0.5, linestyle=":")
     ax.set_xlabel("launch angle $\\theta$")
 t_star = float(scan.theta_transition.sel(phi=phi, method="nearest"))
-for j in range(n):
-    t = float(ds.theta[j])
-    zoom.axvline(t, color=COLORS[j % len(COLORS)], linewidth=0.8)
-zoom.axvline(t_star, color="k", linewidth=0.5, linestyle=":")
 zoom.set_xlim(t_star - ZOOM, t_star + ZOOM)
 sel = np.abs(scan.theta.values - t_star) <= ZOOM
 ys = scan.eigen_sum.sel(phi=phi, method="nearest").values[sel]
 zoom.set_ylim(ys.min() - 0.02, ys.max() + 0.02)
-zoom.set_title(f"elliptic below $\\theta^* = {t_star:.5f}$", fontsize=7.5)
+for j in range(n):  # each launch angle as a dot on the curve, so that the theta* line stays visible
+    o = ds.isel(orbit=j)
+    zoom.plot([float(o.theta)], [float(o.eigen_sum)], "o", color=COLORS[j % len(COLORS)], markersize=4,
+              markeredgecolor="k", markeredgewidth=0.4, zorder=4)
+for ax in (wide, zoom):
+    ax.axvline(t_star, color="k", linewidth=0.9, linestyle="--", zorder=5)
+past = float(ds.theta[0]) - t_star
+zoom.text(0.98, 0.03, f"$\\theta^* = {t_star:.6f}$\n$= \\pi/2 - \\pi/7$\n{float(ds.theta[0]):g}: $+${past:.1e}",
+          transform=zoom.transAxes, fontsize=6, ha="right", va="bottom")
+zoom.set_title(f"elliptic below $\\theta^* = {t_star:.6f}$", fontsize=7.5)
 wide.set_ylim(-2.2, 8.0)
 wide.axhline(-2.0, color="0.3", linewidth=0.5, linestyle=":")
 wide.set_ylabel("$\\lambda + 1/\\lambda$")

@@ -35,10 +35,11 @@ ax.set_box_aspect((np.ptp(x), np.ptp(y), np.ptp(z)))                 # equal sca
 ax.view_init(elev=VIEW_ELEVATION, azim=np.degrees(np.arctan2(-e2[1], -e2[0])) + VIEW_TURN)
 ax.set_xlabel("x")
 ax.set_ylabel("y")
-ax.set_zticks([])
-ax.locator_params(axis="x", nbins=4)
-ax.locator_params(axis="y", nbins=4)
-ax.tick_params(labelsize=6, pad=0)
+ax.set_zlabel("z", labelpad=-8)
+ax.set_zticks([0.0, round(float(z.max()), 1)])
+ax.locator_params(axis="x", nbins=3)
+ax.locator_params(axis="y", nbins=3)
+ax.tick_params(labelsize=7.5, pad=0)    # the same size as the 2D panels' ticks: readable in print
 ax.set_title(f"$\\gamma^2 = {float(ds.attrs['gamma']) ** 2:.2g}$, {ds.sizes['collision']} bounces")
 drift = float(np.hypot(*ds.drift.values[:2]))
 for row, (e, name, note) in enumerate(((e1, "$e_1$", f"drift {drift:.3g} per two bounces"),

@@ -9,6 +9,7 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np
 import xarray as xr
 
+from noslipsim.analysis import elliptic_boundary
 from noslipsim.experiments import survival_pattern
 
 band, min_run = snakemake.params.band, snakemake.params.min_run
@@ -45,6 +46,33 @@ numbers["force_threshold_side"] = dict(
     format=".1%", paper="the stability threshold is unaltered",
     note=f"{kept} of {total} points; holds at small θ only: the R × θ grid shows R* falling to 0 at θ = π/2 - φ")
 
+edge = {k: elliptic_boundary(grid[k]).attrs for k in ("noforce", "force")}
+numbers["force_threshold_shift"] = dict(
+    description=f"force, θ = {theta_f:g}: how far below the force-free threshold R*(φ) the elliptic region "
+                "begins (largest R*(φ) - R_e(φ), R_e where λ + 1/λ crosses 2)", value=edge["force"]["max_shift"],
+    format=".3f", paper="the stability threshold is unaltered",
+    note=(f"at φ = {edge['force']['phi_of_max']:.2f}; mean {edge['force']['mean_shift']:.3f} over φ ≤ "
+          f"{edge['force']['phi_max']:.2f} (φ + θ within 0.05 of π/2 left out); the same measure without force: "
+          f"{edge['noforce']['max_shift']:.1e} (interpolation error)"))
+ds = grid["noforce"]
+delta = json.loads(ds.attrs["perturbation"])["angle"]
+R, P = ds.radius.values[:, None], ds.phi.values[None, :]
+clears = delta * (1.0 - R * np.cos(P)) > R * (1.0 - np.sin(P))
+elliptic = ds.linear_kind.values == "elliptic"
+escaped_elliptic = elliptic & (ds.survived.values == 0)
+near_13 = np.abs(ds.eigen_sum.values + 1.0) < 0.2
+numbers["noforce_clears_far_disk"] = dict(
+    description="no force: grid points where the velocity turned up by the perturbation passes over the far disk, "
+                "δ(1 - R cos φ) > R(1 - sin φ) (the white strip near φ = π/2 and the grazing corner), that end "
+                "with 0 collisions",
+    value=float((ds.n_collisions.values[clears] == 0).mean()) if clears.any() else "no such point in this grid",
+    format=".1%",
+    paper="samples near φ = π/2, nearly tangent, have a noticeable experimental error",
+    note=(f"{int(clears.sum())} points; they are {int((escaped_elliptic & clears).sum())} of the "
+          f"{int(escaped_elliptic.sum())} elliptic points that escape; of the rest, "
+          f"{int((escaped_elliptic & ~clears & near_13).sum())} lie at |λ + 1/λ + 1| < 0.2, the 1:3 resonance "
+          "(the white diagonal streak)"))
+
 ds = grid["theta"]
 phi = ds.attrs["phi"]
 rows = survival_pattern(ds, dim="theta", min_run=min_run)
@@ -80,6 +108,13 @@ numbers["wedge_transition_theta"] = dict(
           + "; with half-angle 2π/7 (the paper's own definition) at "
           + ", ".join(f"{float(t):.4f}" for p, t in zip(scan.phi.values, scan.theta_transition.values)
                       if not np.isclose(p, launch_phi))))
+numbers["wedge_lambda_at_launch_angles"] = dict(
+    description="wedge of half-angle π/7: |λ| per period (2 collisions) of the 2-periodic orbit at the paper's five "
+                "launch angles", value=", ".join(f"{v:.4f}" for v in at.values()),
+    paper="1.122 remains stable; the instability at 1.126 is more significant",
+    note=("at θ = " + ", ".join(f"{t:g}" for t in at) + f"; all five lie above θ* = {t_star:.6f}, 1.122 by "
+          f"{min(at) - t_star:.1e}: |λ| > 1 at each, so 1.122 is hyperbolic too, but a perturbation of 1e-3 "
+          "grows only by |λ|^100 = " + f"{at[min(at)] ** 100:.2f}" + " over 200 collisions"))
 for i in range(wedge.sizes["orbit"]):
     o = wedge.isel(orbit=i)
     case = str(o.case.values)

@@ -27,13 +27,14 @@ from .portraits import (
     reduced_states,
     velocity_portrait,
 )
-from .stability import agreement_share, stability_grid, stability_grid_theta
+from .stability import agreement_share, elliptic_boundary, stability_grid, stability_grid_theta
 from .tangent import CornerError
 
 __all__ = [
     "CornerError", "Monodromy", "PeriodicOrbit", "agreement_share", "arrival_curve", "birkhoff_coordinates",
-    "birkhoff_states", "bounce_orbit", "boundary_coordinate", "classify_regular", "find_periodic_orbit",
-    "finite_time_lyapunov", "head_on_onset_gamma", "interior_starts", "islands_onsets", "lyapunov",
+    "birkhoff_states", "bounce_orbit", "boundary_coordinate", "classify_regular", "elliptic_boundary",
+    "find_periodic_orbit", "finite_time_lyapunov", "head_on_onset_gamma", "interior_starts", "islands_onsets",
+    "lyapunov",
     "monodromy", "onset_gamma", "reduced_portrait", "reduced_states", "regular_share", "stability_grid",
     "stability_grid_theta", "twin_lyapunov", "two_disk_orbit", "uniform_reduced_states", "velocity_portrait",
     "wedge_noforce_orbit", "wedge_orbit",

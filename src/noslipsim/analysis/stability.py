@@ -55,7 +55,7 @@ from .monodromy import KINDS, UNIT_TOL, classify
 from .orbits import two_disk_orbit
 from .tangent import check_no_corner, step_jacobians
 
-__all__ = ["DEFAULT_PERTURBATION", "agreement_share", "stability_grid", "stability_grid_theta"]
+__all__ = ["DEFAULT_PERTURBATION", "agreement_share", "elliptic_boundary", "stability_grid", "stability_grid_theta"]
 
 #: The default perturbation of the start: velocity turned by 1e-3 rad, spin unchanged.
 DEFAULT_PERTURBATION = {"angle": 1e-3, "spin": 0.0}
@@ -262,6 +262,73 @@ def agreement_share(ds):
     if not decided.any():
         return float("nan")
     return float(((ell & survived) | (hyp & ~survived)).sum() / decided.sum())
+
+
+def elliptic_boundary(ds: xr.Dataset, *, margin: float = 0.05) -> xr.Dataset:
+    r"""Where the elliptic region of an R x phi grid begins, column by column, and its distance from R*(phi).
+
+    Along each column (fixed ``phi``) ``lambda + 1/lambda`` of the
+    unperturbed orbit falls through 2 as ``R`` grows (small disks are
+    hyperbolic): the boundary ``R_e(phi)`` is the largest radius where it
+    crosses 2 from above, interpolated linearly between the two grid radii
+    that bracket it.  Without force ``R_e = R^*(phi)``, the closed form
+    (equation ``ellipticity``), up to the interpolation error; under gravity
+    the shift
+
+    .. math::
+
+        \Delta(\varphi) = R^*(\varphi) - R_e(\varphi)
+
+    says how far the force moves the threshold (positive: the elliptic
+    region reaches smaller disks).  Columns with ``phi + theta`` within
+    ``margin`` of ``pi/2`` (the parabolic line under gravity) or without a
+    crossing are NaN.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        An R x phi grid of :func:`stability_grid` (``eigen_sum``,
+        ``radius_threshold``, attribute ``theta``: NaN without force).
+    margin : float
+        Columns with ``phi > pi/2 - theta - margin`` are left out (under gravity).
+
+    Returns
+    -------
+    xarray.Dataset
+        Along ``phi``: ``boundary`` (``R_e``) and ``radius_shift`` (``Delta``);
+        attributes ``max_shift``, ``phi_of_max``, ``mean_shift`` and
+        ``phi_max`` (the largest ``phi`` used).
+
+    Raises
+    ------
+    ValueError
+        For a dataset without dims ``(radius, phi)`` or ``eigen_sum``.
+    """
+    if "eigen_sum" not in ds or set(ds.eigen_sum.dims) != {"radius", "phi"}:
+        raise ValueError("ds: expected an R x phi stability grid with 'eigen_sum' on (radius, phi)")
+    R = np.asarray(ds.radius.values, float)
+    phis = np.asarray(ds.phi.values, float)
+    es = ds.eigen_sum.transpose("radius", "phi").values
+    theta = float(ds.attrs.get("theta", float("nan")))
+    limit = math.pi / 2 - theta - float(margin) if math.isfinite(theta) else math.inf
+    boundary = np.full(phis.size, np.nan)
+    for j, phi in enumerate(phis):
+        if phi > limit:
+            continue
+        col = es[:, j]
+        down = np.flatnonzero((col[:-1] >= 2.0) & (col[1:] < 2.0))
+        if down.size:
+            i = int(down[-1])
+            boundary[j] = R[i] + (col[i] - 2.0) / (col[i] - col[i + 1]) * (R[i + 1] - R[i])
+    shift = np.asarray(ds.radius_threshold.values, float) - boundary
+    out = xr.Dataset({"boundary": ("phi", boundary), "radius_shift": ("phi", shift)}, coords={"phi": phis})
+    ok = np.isfinite(shift)
+    k = int(np.nanargmax(shift)) if ok.any() else 0
+    out.attrs.update(max_shift=float(shift[k]) if ok.any() else float("nan"),
+                     phi_of_max=float(phis[k]) if ok.any() else float("nan"),
+                     mean_shift=float(shift[ok].mean()) if ok.any() else float("nan"),
+                     phi_max=float(phis[ok].max()) if ok.any() else float("nan"))
+    return out
 
 
 # ----------------------------------------------------------------------------- public

@@ -128,6 +128,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
     SPIN = bool(spin)
     LATTICE_RT = lattice is None
     LATTICE = bool(lattice)
+    LATTICE_ALWAYS = lattice is True  # branches open with these constants: numba prunes them before typing
     MODE_RT = mode is None
     MODE = RECORD_LOG if mode is None else int(mode)
     WALLS = walls is None or bool(walls)  # a compile-time constant: False drops the long-wall check
@@ -248,7 +249,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                     if e == SEARCH_FAILED:  # the circle search gave up: stop here, never fly past a hit
                         stop = STOP_SEARCH_LIMIT
                         break
-                elif lattice:
+                elif LATTICE_ALWAYS or (LATTICE_RT and lattice):
                     limit = min(remaining, t_level)
                     t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay,
                                                         has_force, cur_e, cur_o1, cur_o2, limit, extent_tol,

@@ -2,7 +2,8 @@
 
 One module per subject of the figure pipeline: :mod:`.galton` (Figures 2, 3, S1),
 :mod:`.orbits` (Figures 1, 4, 5, 6, 8, 16), :mod:`.stability` (Figures 7, 9, 14, 15) and
-:mod:`.portraits` (Figures 10-13), over :mod:`.orbit_sets` (several orbits as one dataset).
+:mod:`.portraits` (Figures 10-13), :mod:`.readings` (Figure 15 under every reading),
+over :mod:`.orbit_sets` (several orbits as one dataset).
 ``EXPERIMENTS`` names those a config file can run (``noslipsim run``).
 """
 from .galton import galton_cases, galton_distribution, galton_orbits, galton_radius_sweep
@@ -26,6 +27,7 @@ from .portraits import (
     sinai_gamma_portraits,
     sinai_islands_sweep,
 )
+from .readings import readings_table, stability_readings
 from .stability import perturbed_wedge_orbits, survival_pattern, wedge_launch_scan, wedge_periodic_orbits
 
 EXPERIMENTS = {f.__name__: f for f in (
@@ -55,10 +57,12 @@ __all__ = [
     "phase_portrait",
     "polygon_portraits",
     "portrait_set",
+    "readings_table",
     "sinai_gamma_portraits",
     "sinai_islands_sweep",
     "specular_noslip_orbits",
     "sphere_bounce",
+    "stability_readings",
     "survival_pattern",
     "two_disk_box_orbits",
     "wedge_launch_scan",

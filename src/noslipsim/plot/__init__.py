@@ -2,7 +2,10 @@
 
 Figure scripts read datasets and draw with these; they never simulate.
 
-- :func:`use_style`: the project's style file (:data:`STYLE`);
+- :func:`use_style`: the project's style file (:data:`STYLE`); one colour per law
+  (:func:`law_color`), :data:`SERIES_COLORS` for curves that are not a law,
+  :data:`REFERENCE_COLOR` for theory, :func:`equal_windows`, :func:`equal_panels` (equal boxes, aligned titles),
+  :func:`frame_legend` (framed, off the data): module :mod:`noslipsim.plot.style`;
 - :func:`draw_table`: a table, every element kind, periodic scenes as a patch
   of cells (:func:`scene_of` rebuilds a scene from a dataset's ``scene``
   attribute);
@@ -23,6 +26,8 @@ Figure scripts read datasets and draw with these; they never simulate.
 - :func:`load_figure_data`, :func:`require_points`: a figure's dataset, refused when it holds
   nothing to draw (:class:`EmptyFigureError`);
 - :func:`numbers_markdown`: the table of the paper's computed numbers.
+- :mod:`noslipsim.plot.prose` (imported on its own): numbers quoted in prose, marked with their
+  record of ``figures/numbers.json`` and checked against it.
 """
 from .annotate import draw_angle, draw_ray, label_point
 from .checks import EmptyFigureError, load_figure_data, require_points
@@ -35,7 +40,19 @@ from .portraits import draw_portrait, portrait_points
 from .save import save_figure
 from .sphere import sphere_path
 from .stability import draw_class_boundary, draw_deviation, draw_return_points, draw_two_disk_setup, return_points
-from .style import LAW_COLORS, STYLE, law_color, style_context, use_style
+from .style import (
+           LAW_COLORS,
+           REFERENCE_COLOR,
+           SEA_COLOR,
+           SERIES_COLORS,
+           STYLE,
+           equal_panels,
+    equal_windows,
+           frame_legend,
+           law_color,
+           style_context,
+           use_style,
+)
 from .table import auto_window, draw_table, scene_of, table_shapes, view_window
 
 __all__ = ["LAW_COLORS", "STYLE", "auto_window", "draw_orbit", "draw_portrait", "draw_spin", "draw_stability_grid",
@@ -46,3 +63,4 @@ __all__ += ["draw_angle", "draw_ray", "label_point", "sphere_path"]
 __all__ += ["draw_class_boundary", "draw_deviation", "draw_return_points", "draw_two_disk_setup", "return_points"]
 __all__ += ["draw_birkhoff", "draw_layered_portrait", "draw_reduced_portrait", "orbit_colors"]
 __all__ += ["EmptyFigureError", "load_figure_data", "require_points"]
+__all__ += ["REFERENCE_COLOR", "SEA_COLOR", "SERIES_COLORS", "equal_panels", "equal_windows", "frame_legend"]

@@ -4,7 +4,8 @@ Each subject of the workflow writes a JSON fragment ``{key: record}``; the
 fragments are gathered into ``figures/numbers.json`` as
 ``{subject: {key: record}}`` and rendered by :func:`numbers_markdown` into the
 table the README shows (a test checks that the two agree, so nobody types a
-number).  A record holds:
+number; numbers quoted in prose are marked with their record and checked the
+same way: :mod:`noslipsim.plot.prose`).  A record holds:
 
 - ``description``: what the number is (one line);
 - ``value``: the computed number (float) or a short text;
@@ -64,3 +65,4 @@ def numbers_markdown(numbers):
             cells = [subject, record["description"], format_value(record), record.get("paper", "")]
             lines.append("| " + " | ".join(str(c).replace("|", "\\|") for c in cells) + " |")
     return "\n".join(lines) + "\n"
+

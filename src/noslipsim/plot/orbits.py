@@ -12,7 +12,10 @@ chords.  The scaled spin ``w = gamma R omega`` (counter-clockwise positive,
 docs/conventions.md) is constant on a flight; a spin marker is the particle
 drawn as a small circle with an arrow inside that turns the way the particle
 spins, over an angle proportional to ``|w| / sqrt(|v|^2 + w^2)`` (the share of
-the speed carried by the spin).
+the speed carried by the spin).  A marker sits at the middle of its flight or,
+when that spot is taken, at the nearest point along the flight where its
+circle crosses no wall and overlaps no marker already drawn
+(:data:`SPIN_SPOTS`); a flight with no such point gets none.
 """
 from __future__ import annotations
 
@@ -24,6 +27,7 @@ from matplotlib.patches import Circle as CirclePatch
 from matplotlib.patches import FancyArrowPatch
 from matplotlib.path import Path
 
+from ..elements import Arc, Circle, Line, Segment
 from .style import law_color
 from .table import scene_of
 
@@ -33,6 +37,12 @@ POINTS_PER_FLIGHT = 24
 SPIN_ARC_MAX = 300.0
 #: Spins below this share of the speed are drawn as a dot (no rotation).
 SPIN_ZERO = 1e-9
+#: Where along a flight (share of its duration) a spin marker may sit, in order of preference.
+SPIN_SPOTS = (0.5, 0.4, 0.6, 0.3, 0.7, 0.2, 0.8, 0.1, 0.9)
+#: Least distance between two spin markers' centres, and from a centre to a wall, in marker radii.
+SPIN_GAP, SPIN_CLEARANCE = 2.2, 1.15
+#: Size of the spin arrow's head (points), readable in print at the figures' 6.5 in width.
+SPIN_HEAD = 6.5
 
 _LOG = ("t", "x", "y", "vx", "vy", "spin")
 
@@ -123,17 +133,67 @@ def orbit_path(orbit, points_per_flight=POINTS_PER_FLIGHT):
     return x.ravel(), y.ravel()
 
 
-def _flight_midpoints(n):
-    """Position, velocity and spin at the middle of every flight."""
+def _flight_points(n, share=0.5):
+    """Position, velocity and spin at ``share`` of the duration of every flight (0.5: the middle)."""
     ax, ay = n["force"]
     t_next = np.append(n["t"][1:], n["t_end"])
-    tau = 0.5 * np.clip(t_next - n["t"], 0.0, None)
+    tau = share * np.clip(t_next - n["t"], 0.0, None)
     x = n["x"] + n["vx"] * tau + 0.5 * ax * tau ** 2
     y = n["y"] + n["vy"] * tau + 0.5 * ay * tau ** 2
     return x, y, n["vx"] + ax * tau, n["vy"] + ay * tau, n["spin"]
 
 
-def draw_spin(ax, x, y, spin, speed, radius, *, color="k", linewidth=0.6, zorder=4):
+def _wall_distance(element, x, y):
+    """Distance from ``(x, y)`` to one element (a line, a segment, a circle or an arc)."""
+    if isinstance(element, Line):
+        return abs((x - element.point[0]) * element.normal[0] + (y - element.point[1]) * element.normal[1])
+    if isinstance(element, Segment):
+        (x0, y0), (x1, y1) = element.p0, element.p1
+        dx, dy = x1 - x0, y1 - y0
+        f = min(max(((x - x0) * dx + (y - y0) * dy) / (dx * dx + dy * dy), 0.0), 1.0)
+        return math.hypot(x - x0 - f * dx, y - y0 - f * dy)
+    cx, cy = element.center
+    r = math.hypot(x - cx, y - cy)
+    if isinstance(element, Circle):
+        return abs(r - element.radius)
+    if isinstance(element, Arc):
+        if (math.atan2(y - cy, x - cx) - element.theta0) % (2 * math.pi) <= element.theta1 - element.theta0:
+            return abs(r - element.radius)
+        return min(math.hypot(x - cx - element.radius * math.cos(a), y - cy - element.radius * math.sin(a))
+                   for a in (element.theta0, element.theta1))
+    raise TypeError(f"scene: no distance to an element of type {type(element).__name__}")  # pragma: no cover
+
+
+def _spin_spots(n, scene, spin_every, radius):
+    """``(x, y, spin, speed)`` of the spin markers: one per ``spin_every``-th flight where one fits.
+
+    A marker must keep :data:`SPIN_CLEARANCE` radii from every wall (in a
+    periodic scene the walls are not checked: copies repeat them) and
+    :data:`SPIN_GAP` radii from every marker placed before it.  A flight
+    whose middle lies within one radius of a marker already placed repeats
+    an earlier flight (a periodic orbit) and gets none.
+    """
+    spots = [_flight_points(n, f) for f in SPIN_SPOTS]
+    walls = () if scene.lattice is not None else scene.elements
+    placed = []
+    for k in range(0, len(n["t"]), int(spin_every)):
+        mx, my = float(spots[0][0][k]), float(spots[0][1][k])
+        if any(math.hypot(mx - qx, my - qy) < radius for qx, qy, _, _ in placed):
+            continue                                   # a flight repeated (a periodic orbit): marked once
+        for x, y, vx, vy, w in spots:
+            px, py = float(x[k]), float(y[k])
+            if any(_wall_distance(e, px, py) < SPIN_CLEARANCE * radius for e in walls):
+                continue
+            if any(math.hypot(px - qx, py - qy) < SPIN_GAP * radius for qx, qy, _, _ in placed):
+                continue
+            speed = math.sqrt(vx[k] ** 2 + vy[k] ** 2 + w[k] ** 2)
+            if speed > 0:
+                placed.append((px, py, float(w[k]), speed))
+            break
+    return placed
+
+
+def draw_spin(ax, x, y, spin, speed, radius, *, color="k", linewidth=0.7, zorder=4):
     """Draw the particle at ``(x, y)`` as a circle with an arrow showing its spin.
 
     The arrow runs counter-clockwise for ``spin > 0`` and clockwise for
@@ -164,7 +224,7 @@ def draw_spin(ax, x, y, spin, speed, radius, *, color="k", linewidth=0.6, zorder
     ang = math.pi / 2 + np.linspace(0.0, span, 24)
     r = 0.6 * radius
     path = Path(np.c_[x + r * np.cos(ang), y + r * np.sin(ang)])
-    ax.add_patch(FancyArrowPatch(path=path, arrowstyle="-|>", mutation_scale=4, color=color,
+    ax.add_patch(FancyArrowPatch(path=path, arrowstyle="-|>", mutation_scale=SPIN_HEAD, color=color,
                                  linewidth=linewidth, shrinkA=0, shrinkB=0, zorder=zorder))
 
 
@@ -190,8 +250,11 @@ def draw_orbit(ax, orbit, *, color=None, linewidth=None, label=None, ends=True, 
     ends : bool
         Mark the start (open dot) and the end (filled dot).
     spin_every : int, optional
-        Draw a spin marker (:func:`draw_spin`) at the middle of every
-        ``spin_every``-th flight, starting with the first.
+        Draw a spin marker (:func:`draw_spin`) on every ``spin_every``-th
+        flight, starting with the first: at the middle of the flight, or at
+        the nearest of :data:`SPIN_SPOTS` where it crosses no wall and
+        overlaps no earlier marker; none on a flight without such a spot
+        or one that repeats an earlier flight.
     spin_radius : float, optional
         Radius of the spin markers (data units); default 3 % of the larger
         side of the path's bounding box.
@@ -210,11 +273,8 @@ def draw_orbit(ax, orbit, *, color=None, linewidth=None, label=None, ends=True, 
             raise ValueError(f"spin_every: expected a positive integer, got {spin_every!r}")
         if spin_radius is None:
             spin_radius = 0.03 * max(np.ptp(x), np.ptp(y), 1e-12)
-        mx, my, mvx, mvy, mw = _flight_midpoints(n)
-        for k in range(0, len(mx), int(spin_every)):
-            speed = math.sqrt(mvx[k] ** 2 + mvy[k] ** 2 + mw[k] ** 2)
-            if speed > 0:
-                draw_spin(ax, mx[k], my[k], mw[k], speed, spin_radius, color=color, zorder=zorder + 2)
+        for mx, my, mw, speed in _spin_spots(n, scene_of(orbit), spin_every, spin_radius):
+            draw_spin(ax, mx, my, mw, speed, spin_radius, color=color, zorder=zorder + 2)
     if ends:
         mark_ends(ax, (x[0], y[0]), (x[-1], y[-1]), color=color, zorder=zorder + 3)
     return line

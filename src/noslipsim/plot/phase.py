@@ -20,37 +20,14 @@ for specular tables, the Birkhoff ``sin_angle``; optionally a flag
 from __future__ import annotations
 
 import numpy as np
-from matplotlib import colormaps
 from matplotlib.colors import to_rgba
 
 from .checks import require_points
 from .portraits import portrait_points, velocity_disk_axes
+from .style import PALETTES, SEA_COLOR, orbit_colors
 
-#: Colour of the chaotic sea.
-SEA_COLOR = "0.72"
-
-#: Qualitative colour maps whose colours :func:`orbit_colors` takes in turn (60 colours).
-PALETTES = ("tab20", "tab20b", "tab20c")
-
-
-def orbit_colors(n):
-    """``n`` distinct RGBA colours (``tab20``, then ``tab20b``, ``tab20c``; cycling beyond 60).
-
-    Parameters
-    ----------
-    n : int
-        Number of colours (>= 0).
-
-    Returns
-    -------
-    numpy.ndarray (n, 4)
-    """
-    if isinstance(n, bool) or int(n) != n or n < 0:
-        raise ValueError(f"n: expected a non-negative integer, got {n!r}")
-    base = np.concatenate([colormaps[name](np.arange(20)) for name in PALETTES])
-    # tab20 pairs a dark and a light shade of each hue: take the dark ones first, then the light
-    order = np.concatenate([np.arange(0, 60, 2), np.arange(1, 60, 2)])
-    return base[order][np.arange(int(n)) % len(base)]
+__all__ = ["PALETTES", "SEA_COLOR", "draw_birkhoff", "draw_layered_portrait", "draw_reduced_portrait",
+           "orbit_colors"]
 
 
 def _regular(portrait, regular, name="vt_unit"):

@@ -1,7 +1,9 @@
 """Draw a billiard table: every element kind, and periodic scenes as a patch of cells.
 
 Walls are drawn as lines with the side away from the table shaded (infinite
-lines) or as plain curves (segments, arcs, containers); scatterers (circles
+lines: each drawn only where it bounds the table, so the two walls of a wedge
+stop at its vertex; the shade is opaque, so shades overlapping outside a
+corner show no darker patch) or as plain curves (segments, arcs, containers); scatterers (circles
 with the table outside) are filled discs.  A periodic scene is drawn as every
 copy of its elements that meets the view window.  The element kinds and the
 scene format are described in docs/scenes.md.
@@ -20,7 +22,7 @@ from matplotlib.patches import Polygon
 from .._engine.lattice import lattice_matrix
 from ..elements import Arc, Circle, Line, Segment
 from ..scenes import Scene
-from .style import SCATTERER_COLOR, WALL_COLOR
+from .style import SCATTERER_COLOR, SHADE_COLOR, WALL_COLOR
 
 #: Relative margin around the elements when the window is chosen automatically.
 AUTO_MARGIN = 0.05
@@ -190,6 +192,43 @@ def _clip_line(box, point, direction):
             (point[0] + hi * direction[0], point[1] + hi * direction[1])]
 
 
+def _clip_to_walls(seg, lines, own):
+    """The part of chord ``seg`` of line ``own`` on the table side of every other infinite line, or None.
+
+    A table bounded by infinite lines is the intersection of their half-planes
+    (``(p - point) . normal >= 0`` for each), so a line is part of the
+    boundary only where every other line's half-plane holds: the walls of a
+    wedge end at its vertex instead of crossing it.
+    """
+    (ax_, ay_), (bx, by) = seg
+    lo, hi = 0.0, 1.0
+    for k, (q, n) in enumerate(lines):
+        if k == own:
+            continue
+        fa = (ax_ - q[0]) * n[0] + (ay_ - q[1]) * n[1]
+        fb = (bx - q[0]) * n[0] + (by - q[1]) * n[1]
+        if fa < 0 and fb < 0:
+            return None
+        if fa < 0 or fb < 0:
+            s = fa / (fa - fb)
+            lo, hi = (max(lo, s), hi) if fa < 0 else (lo, min(hi, s))
+    if not lo < hi:
+        return None
+    return [(ax_ + lo * (bx - ax_), ay_ + lo * (by - ay_)), (ax_ + hi * (bx - ax_), ay_ + hi * (by - ay_))]
+
+
+def _wall_chords(scene, box, copies):
+    """For every infinite line among ``copies``: its shade polygon and its visible boundary chord (or None)."""
+    lines = [((e.point[0] + dx, e.point[1] + dy), e.normal) for e, dx, dy in copies if isinstance(e, Line)]
+    out = []
+    for k, (p, n) in enumerate(lines):
+        seg = _clip_line(box, p, (-n[1], n[0]))
+        if seg is not None and scene.lattice is None:   # a lattice repeats the lines: no common inside
+            seg = _clip_to_walls(seg, lines, k)
+        out.append((_clip_half_plane(box, p, n), seg))
+    return out
+
+
 def _copies(scene, box):
     """``(element, dx, dy)`` for every copy of every element whose bounding box meets the window."""
     if scene.lattice is None:
@@ -246,16 +285,16 @@ def draw_table(ax, scene, window=None, *, wall_color=WALL_COLOR, scatterer_color
     box = auto_window(scene) if window is None else _window(window)
     x0, x1, y0, y1 = box
     discs, curves, walls, shades = [], [], [], []
-    for e, dx, dy in _copies(scene, box):
+    copies = _copies(scene, box)
+    for shade, seg in _wall_chords(scene, box, copies):
+        if len(shade) >= 3:
+            shades.append(Polygon(shade, closed=True))
+        if seg is not None:
+            walls.append(seg)
+    for e, dx, dy in copies:
         if isinstance(e, Line):
-            p = (e.point[0] + dx, e.point[1] + dy)
-            shade = _clip_half_plane(box, p, e.normal)
-            if len(shade) >= 3:
-                shades.append(Polygon(shade, closed=True))
-            seg = _clip_line(box, p, (-e.normal[1], e.normal[0]))
-            if seg is not None:
-                walls.append(seg)
-        elif isinstance(e, Segment):
+            continue
+        if isinstance(e, Segment):
             walls.append([(e.p0[0] + dx, e.p0[1] + dy), (e.p1[0] + dx, e.p1[1] + dy)])
         elif isinstance(e, Circle):
             c = (e.center[0] + dx, e.center[1] + dy)
@@ -270,8 +309,7 @@ def draw_table(ax, scene, window=None, *, wall_color=WALL_COLOR, scatterer_color
         else:  # pragma: no cover - every element kind is handled above
             raise TypeError(f"scene: cannot draw element of type {type(e).__name__}")
     if shades:
-        ax.add_collection(PatchCollection(shades, facecolor=scatterer_color, edgecolor="none",
-                                          alpha=0.5, zorder=zorder))
+        ax.add_collection(PatchCollection(shades, facecolor=SHADE_COLOR, edgecolor="none", zorder=zorder))
     if discs:
         ax.add_collection(PatchCollection(discs, facecolor=scatterer_color, edgecolor=wall_color,
                                           linewidth=linewidth, zorder=zorder))
@@ -304,23 +342,23 @@ def table_shapes(scene, window):
     -------
     dict
         ``walls``: list of ``(xs, ys)`` polylines (segments, arcs, containers,
-        the visible chord of each infinite line); ``discs``: list of
+        the chord of each infinite line where it bounds the table); ``discs``: list of
         ``(x, y, r)`` scatterers (the table outside them); ``shades``: list of
         ``(xs, ys)`` polygons, the part of the window behind each infinite line.
     """
     scene = scene_of(scene)
     box = _window(window)
     walls, discs, shades = [], [], []
-    for e, dx, dy in _copies(scene, box):
+    copies = _copies(scene, box)
+    for shade, seg in _wall_chords(scene, box, copies):
+        if len(shade) >= 3:
+            shades.append(([q[0] for q in shade], [q[1] for q in shade]))
+        if seg is not None:
+            walls.append(([seg[0][0], seg[1][0]], [seg[0][1], seg[1][1]]))
+    for e, dx, dy in copies:
         if isinstance(e, Line):
-            p = (e.point[0] + dx, e.point[1] + dy)
-            shade = _clip_half_plane(box, p, e.normal)
-            if len(shade) >= 3:
-                shades.append(([q[0] for q in shade], [q[1] for q in shade]))
-            seg = _clip_line(box, p, (-e.normal[1], e.normal[0]))
-            if seg is not None:
-                walls.append(([seg[0][0], seg[1][0]], [seg[0][1], seg[1][1]]))
-        elif isinstance(e, Segment):
+            continue
+        if isinstance(e, Segment):
             walls.append(([e.p0[0] + dx, e.p1[0] + dx], [e.p0[1] + dy, e.p1[1] + dy]))
         elif isinstance(e, Circle) and e.side == "outside":
             discs.append((e.center[0] + dx, e.center[1] + dy, e.radius))

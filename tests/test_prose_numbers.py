@@ -1,0 +1,65 @@
+"""Numbers quoted in prose (README, config/README, report captions) are the pipeline's numbers.
+
+A number the pipeline computes is quoted with a marker naming its record in figures/numbers.json
+(noslipsim.plot.prose: ``0.319 ± 0.008<!--=portraits.islands_onset_gamma_R0.45-->`` in markdown,
+a substitution ``|subject.key|`` in a caption); these tests fail when a quoted value differs from the
+committed numbers.json.  ``python -m noslipsim.plot.prose figures/numbers.json FILE...`` rewrites them.
+"""
+import json
+from pathlib import Path
+
+import pytest
+
+from noslipsim.plot import prose as nb
+
+ROOT = Path(__file__).resolve().parents[1]
+PROSE = ["README.md", "config/README.md", "docs/figures.md"]
+CAPTIONS = sorted((ROOT / "workflow" / "report").glob("*.rst"))
+
+NUMBERS = {"portraits": {"onset": {"description": "d", "value": 0.31875, "format": ".3f", "stderr": 0.0081},
+                         "radius": {"description": "d", "value": 0.4587, "format": ".3f"},
+                         "share": {"description": "d", "value": 0.9864, "format": ".1%"},
+                         "kind": {"description": "d", "value": "elliptic"}}}
+
+
+@pytest.fixture(scope="module")
+def committed():
+    return json.loads((ROOT / "figures" / "numbers.json").read_text(encoding="utf-8"))
+
+
+@pytest.mark.parametrize("name", PROSE)
+def test_marked_numbers_in_the_readmes_are_numbers_json(name, committed):
+    text = (ROOT / name).read_text(encoding="utf-8")
+    assert nb.marked_numbers(text), f"{name}: no marked number (the markers were lost?)"
+    assert nb.prose_mismatches(text, committed) == []
+
+
+@pytest.mark.parametrize("rst", CAPTIONS, ids=lambda p: p.stem)
+def test_marked_numbers_in_the_captions_are_numbers_json(rst, committed):
+    assert nb.prose_mismatches(rst.read_text(encoding="utf-8"), committed, "rst") == []
+
+
+def test_a_changed_number_is_caught_in_markdown():
+    good = ("γ = 0.319 ± 0.008<!--=portraits.onset--> and R ≈ 0.46<!--=portraits.radius:.2f-->, "
+            "on 98.6 %<!--=portraits.share-->")
+    assert [r for _, r, _ in nb.marked_numbers(good)] == ["portraits.onset", "portraits.radius", "portraits.share"]
+    assert nb.prose_mismatches(good, NUMBERS) == []
+    bad = good.replace("0.319", "0.32").replace("0.46", "0.45")
+    problems = nb.prose_mismatches(bad, NUMBERS)
+    assert len(problems) == 2 and "'0.32 ± 0.008'" in problems[0] and "'0.46'" in problems[1]
+    assert nb.fill_prose(bad, NUMBERS) == good                           # the generator restores the text
+    assert nb.prose_mismatches("x = 1.5<!--=portraits.nothing-->", NUMBERS) == [
+        "portraits.nothing: no such number in numbers.json (expected subject.key)"]
+    assert "text value" in nb.prose_mismatches("1<!--=portraits.kind-->", NUMBERS)[0]
+
+
+def test_a_changed_number_is_caught_in_a_caption():
+    good = "onset |portraits.onset|, share |portraits.share|.\n\n.. |portraits.onset| replace:: 0.319 ± 0.008\n" \
+           ".. |portraits.share| replace:: 98.6 %\n"
+    assert len(nb.marked_numbers(good, "rst")) == 2 and nb.prose_mismatches(good, NUMBERS, "rst") == []
+    bad = good.replace("98.6 %", "98.7 %")
+    assert nb.prose_mismatches(bad, NUMBERS, "rst") == ["portraits.share: the prose says '98.7 %', numbers.json "
+                                                        "gives '98.6%'"]
+    assert nb.fill_prose(bad, NUMBERS, "rst") == good
+    with pytest.raises(ValueError, match="kind"):
+        nb.marked_numbers(good, "latex")
