@@ -10,13 +10,16 @@ import matplotlib.pyplot as plt
 
 from noslipsim import plot
 from noslipsim.analysis import regular_share
+from noslipsim.plot.style import LAW_COLORS, SERIES_COLORS
 
 ds = plot.load_figure_data(snakemake.input.readings)
 drawn = plot.load_figure_data(snakemake.input.portraits)      # the reading Figure 13 draws, and its forces
 chosen = drawn.attrs["reading"]
 threshold = snakemake.params.threshold
 share, err, n = regular_share(ds.ftle.values, threshold)     # dims (reading, gamma, force)
-STYLE = {"closed": ("C0", "o"), "specular": ("C7", "s"), "periodic": ("C1", "^"), "thermostat": ("C3", "D")}
+# specular keeps the law's colour; the three no-slip readings take series colours (plot.style)
+STYLE = {"closed": (SERIES_COLORS[0], "o"), "specular": (LAW_COLORS["specular"], "s"),
+         "periodic": (SERIES_COLORS[2], "^"), "thermostat": (SERIES_COLORS[1], "D")}
 LABEL = {"closed": "closed cell, no-slip walls", "specular": "closed cell, specular",
          "periodic": "periodic cell, free fall", "thermostat": "periodic cell, isokinetic thermostat"}
 
