@@ -112,6 +112,66 @@ def _check_lattice_segments(elements, lattice):
                              f"of size {size:.3g} (at least {LATTICE_MIN_SEGMENT:g} times it)")
 
 
+#: Range of validity (docs/conventions.md, "Range of validity"): lengths (the table's size, a
+#: start's distance from its cell's origin) and speeds must lie in ``[MIN_MAGNITUDE, MAX_MAGNITUDE]``.
+#: The engine forms products of up to two lengths and two speeds (``|q|^2``, ``(q.v)^2``); at these
+#: bounds every such product stays 100 decades away from overflow and from the subnormals, and
+#: scaled twins (``benchmarks/magnitudes.py``) stay exact to the bit far beyond them (1e+-149 in
+#: length or speed alone, 1e+-67 in both at once).
+MAX_MAGNITUDE = 1e50
+MIN_MAGNITUDE = 1e-50
+#: A force's magnitude ``|a|`` (an acceleration, a speed squared over a length) must lie in this
+#: range when it is not zero: ``MIN_MAGNITUDE**3 .. MAX_MAGNITUDE**3`` (past it ``|a|^2`` in the
+#: quartic's leading coefficient leaves the normal floats).
+MIN_FORCE = MIN_MAGNITUDE ** 3
+MAX_FORCE = MAX_MAGNITUDE ** 3
+#: Every segment, radius and arc must be at least this fraction of the table's size: the engine's
+#: tolerances are ``1e-11`` of it (core/tolerances.py), and a smaller piece would lie inside them.
+MIN_FEATURE = 1e-9
+_RANGE_DOC = "docs/conventions.md, 'Range of validity'"
+
+
+def _features(e):
+    """``[(what, size), ...]``: the lengths of an element that must resolve against the table's size."""
+    if e.type_name == "segment":
+        return [("length", e.length())]
+    if e.type_name == "circle":
+        return [("radius", e.radius)]
+    if e.type_name == "arc":
+        return [("radius", e.radius), ("arc length", e.length())]
+    return []
+
+
+def table_size(elements, lattice=None) -> float:
+    """The table's length scale: its largest coordinate magnitude (and lattice vector), ``0`` for lines through 0."""
+    size = max(e.size() for e in elements)
+    if lattice is not None:
+        size = max(size, *(math.hypot(*lattice[k]) for k in ("a1", "a2")))
+    return float(size)
+
+
+def _check_magnitudes(scene):
+    """Refuse a table or force outside the range the engine is exact for, naming the quantity."""
+    size = table_size(scene.elements, scene.lattice)
+    if size > MAX_MAGNITUDE:
+        raise ValueError(f"elements: the table's coordinates reach {size:.3g}; the engine is exact for tables up "
+                         f"to {MAX_MAGNITUDE:g} ({_RANGE_DOC}): use a larger length unit")
+    if 0.0 < size < MIN_MAGNITUDE:
+        raise ValueError(f"elements: the table's size is {size:.3g}; the engine is exact for tables of at least "
+                         f"{MIN_MAGNITUDE:g} ({_RANGE_DOC}): use a smaller length unit")
+    floor = max(MIN_FEATURE * size, MIN_MAGNITUDE)
+    for i, e in enumerate(scene.elements):
+        for what, value in _features(e):
+            if not value >= floor:
+                raise ValueError(f"elements[{i}]: a {e.type_name} {what} of {value:.3g} is below {MIN_FEATURE:g} "
+                                 f"times the table's size {size:.3g}: it would lie within the engine's tolerances "
+                                 f"({_RANGE_DOC})")
+    a = math.hypot(*scene.force)
+    if a != 0.0 and not MIN_FORCE <= a <= MAX_FORCE:
+        raise ValueError(f"force: |a| = {a:.3g} lies outside [{MIN_FORCE:g}, {MAX_FORCE:g}], the range the engine "
+                         f"is exact for ({_RANGE_DOC}); use 0 for no force")
+
+
 @dataclass(frozen=True)
 class Scene:
     """A billiard table with its physics.
@@ -164,6 +224,7 @@ class Scene:
             for i, e in enumerate(self.elements):
                 if isinstance(e, Line):
                     raise ValueError(f"elements[{i}]: infinite lines cannot be repeated on a lattice")
+        _check_magnitudes(self)
 
     # ---------------------------------------------------------------- file format
     @classmethod
@@ -282,6 +343,11 @@ class Scene:
             dx, dy = A @ np.array([o1 + cell[0], o2 + cell[1]], float)
             elems.append(self.elements[e].shifted(dx, dy))
         return self.replace(elements=tuple(elems), lattice=None)
+
+    @property
+    def smallest_feature(self) -> float:
+        """The shortest segment, smallest radius or arc length of the table (``inf`` for lines only)."""
+        return float(min((v for e in self.elements for _, v in _features(e)), default=math.inf))
 
     @property
     def scale(self) -> float:

@@ -17,7 +17,7 @@ from ._validate import finite_float, finite_vector
 from ._version import __version__
 from .core import layout
 from .core.batch import F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y
-from .scenes import Scene
+from .scenes import _RANGE_DOC, MAX_MAGNITUDE, MIN_FEATURE, MIN_MAGNITUDE, Scene
 
 _COLUMNS = {
     "t": layout.LOG_T, "x": layout.LOG_X, "y": layout.LOG_Y, "vx": layout.LOG_VX,
@@ -29,6 +29,63 @@ _COLUMNS = {
 START_MARGIN = 1e-12
 
 
+def check_magnitudes(scene: Scene, rel, v, w, fields=("position", "velocity", "spin"), orbit=""):
+    """Refuse starts outside the range of scales the engine is exact for (docs/conventions.md).
+
+    ``rel`` are the start positions relative to their cell's origin (``(N, 2)``), ``v`` the
+    velocities, ``w`` the spins.  The length scale of an orbit is ``L = max(table size, |rel|)``;
+    its speed scale ``V`` is ``|v|`` (no force, or the isokinetic thermostat, which keeps ``|v|``)
+    or ``max(|v|, sqrt(|a| L))`` under free fall.  Both must lie in ``[MIN_MAGNITUDE,
+    MAX_MAGNITUDE]``, ``|w| <= MAX_MAGNITUDE``, and the table's smallest piece must be at least
+    ``MIN_FEATURE L`` (the engine's tolerances are relative to ``L``).  ``orbit`` prefixes the
+    messages (``'orbit 3 '``, a callable of the orbit's index, for ensembles).
+    """
+    pos, vel, spin = fields
+    rel, v, w = np.atleast_2d(rel), np.atleast_2d(v), np.atleast_1d(w)
+    name = orbit if callable(orbit) else (lambda i: orbit)
+
+    def first(bad):
+        return int(np.argmax(bad))
+
+    with np.errstate(all="ignore"):
+        L = np.maximum(scene.scale, np.abs(rel).max(axis=1))
+        speed = np.hypot(v[:, 0], v[:, 1])
+        a = math.hypot(*scene.force)
+        V = speed if (a == 0.0 or scene.thermostat is not None) else np.maximum(speed, np.sqrt(a * L))
+    bad = L > MAX_MAGNITUDE
+    if bad.any():
+        i = first(bad)
+        raise ValueError(f"{pos}: {name(i)}|q| = {L[i]:.3g} lies beyond {MAX_MAGNITUDE:g}, the largest length the "
+                         f"engine is exact for ({_RANGE_DOC})")
+    bad = L < MIN_MAGNITUDE
+    if bad.any():
+        i = first(bad)
+        raise ValueError(f"{pos}: {name(i)}the start and the table lie within {L[i]:.3g} of the origin, below "
+                         f"{MIN_MAGNITUDE:g}, the smallest length the engine is exact for ({_RANGE_DOC})")
+    bad = scene.smallest_feature < MIN_FEATURE * L
+    if bad.any():
+        i = first(bad)
+        raise ValueError(f"{pos}: {name(i)}|q| = {L[i]:.3g} is more than {1 / MIN_FEATURE:g} times the table's "
+                         f"smallest piece ({scene.smallest_feature:.3g}), which would lie within the engine's "
+                         f"tolerances there ({_RANGE_DOC})")
+    bad = (speed > MAX_MAGNITUDE) | (V > MAX_MAGNITUDE)
+    if bad.any():
+        i = first(bad)
+        what = f"speed {speed[i]:.3g}" if speed[i] > MAX_MAGNITUDE else f"speed scale sqrt(|a| L) = {V[i]:.3g}"
+        raise ValueError(f"{vel}: {name(i)}{what} lies beyond {MAX_MAGNITUDE:g}, the largest speed the engine is "
+                         f"exact for ({_RANGE_DOC})")
+    bad = (V < MIN_MAGNITUDE) & (V > 0.0)
+    if bad.any():
+        i = first(bad)
+        raise ValueError(f"{vel}: {name(i)}speed {V[i]:.3g} is below {MIN_MAGNITUDE:g}, the smallest speed the "
+                         f"engine is exact for ({_RANGE_DOC})")
+    bad = np.abs(w) > MAX_MAGNITUDE
+    if bad.any():
+        i = first(bad)
+        raise ValueError(f"{spin}: {name(i)}|w| = {abs(w[i]):.3g} lies beyond {MAX_MAGNITUDE:g}, the largest spin "
+                         f"the engine is exact for ({_RANGE_DOC})")
+
+
 def check_start(scene: Scene, position, velocity, spin):
     """Validate one initial state; returns ``(q, v, w)`` as floats.
 
@@ -38,7 +95,9 @@ def check_start(scene: Scene, position, velocity, spin):
     q = finite_vector(position, "position")
     v = finite_vector(velocity, "velocity")
     w = finite_float(spin, "spin")
-    margin = START_MARGIN * max(scene.scale, float(np.abs(start_cell(scene, q)[2]).max()))
+    rel = start_cell(scene, q)[2]
+    check_magnitudes(scene, rel, v, w)
+    margin = START_MARGIN * max(scene.scale, float(np.abs(rel).max()))
     try:
         depth = float(scene.depth(q[None])[0])
     except ValueError as err:  # the copies of the elements around a far cell collapse in rounding
