@@ -15,6 +15,7 @@ compiled kernel ends the run with a traceback instead of stalling it).
 import faulthandler
 import math
 import re
+import warnings
 
 import numpy as np
 import pytest
@@ -363,3 +364,76 @@ def run_ensemble_example(data):
 @given(st.data())
 def test_ensemble_stress(data):
     run_ensemble_example(data)
+
+
+# ---------------------------------------------------------------------------- magnitudes
+#: Named tables with a start inside (in table units), a direction, and whether the force may be on.
+MAGNITUDE_TABLES = [
+    (tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.3)]), (0.2, 0.7)),
+    (tables.stadium(), (0.1, 0.2)),
+    (tables.half_plane(), (0.0, 1.0)),
+    (tables.sinai_torus(0.3), (0.5, 0.45)),
+    (tables.hex_lorentz_cell(0.4).replace(thermostat="isokinetic"), (0.45, 0.1)),
+    (tables.two_disks(0.4), (0.0, 0.9)),
+]
+#: Any positive finite float, and the edges of the range and of the float format.
+magnitude = st.one_of(st.floats(min_value=5e-324, max_value=1.7976931348623157e308),
+                      st.sampled_from([5e-324, 1e-300, 1e-151, 1e-150, 1e-50, 1e-49, 1.0, 1e49, 1e50, 1e51,
+                                       1e150, 1e151, 1e300, 1.7976931348623157e308]))
+
+
+def _scaled(scene, L):
+    d = scene.to_dict()
+    for e in d["elements"]:
+        for key in ("point", "p0", "p1", "center"):
+            if key in e:
+                e[key] = [c * L for c in e[key]]
+        if "radius" in e:
+            e["radius"] *= L
+    if "lattice" in d:
+        d["lattice"] = {k: [c * L for c in a] for k, a in d["lattice"].items()}
+    return d
+
+
+def run_magnitude_example(data):
+    """A named table scaled by any float, any force, speed and spin: refused by name, or finite and in the table."""
+    base, start = data.draw(st.sampled_from(MAGNITUDE_TABLES))
+    L = data.draw(magnitude)
+    d = _scaled(base, L)
+    direction = data.draw(st.floats(0.0, 2 * math.pi))
+    a = data.draw(st.one_of(st.just(0.0), magnitude))
+    d["force"] = [a * math.cos(direction + 1.0), a * math.sin(direction + 1.0)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow or invalid-value warning on the way to an answer
+        try:
+            scene = Scene.from_dict(d)
+        except ValueError as err:
+            assert SCENE_FIELD.match(str(err)), repr(err)
+            return
+        q = (start[0] * L, start[1] * L)
+        V = data.draw(magnitude)
+        v = (V * math.cos(direction), V * math.sin(direction))
+        w = data.draw(st.one_of(st.just(0.0), magnitude)) * data.draw(st.sampled_from([1.0, -1.0]))
+        ds = check_orbit(scene, q, v, w, 12, math.inf, None)
+        if ds is None:
+            return
+        for var in ("x", "y", "vx", "vy", "spin", "t", "s"):
+            assert np.isfinite(ds[var].values).all(), var
+        final = np.array([[float(ds.x_final), float(ds.y_final)]])
+        assert np.isfinite(final).all()
+        size = max(scene.scale, abs(q[0]), abs(q[1]))
+        if ds.attrs["stop_reason"] != "escape":
+            assert scene.depth(final)[0] >= -1e-8 * size, (ds.attrs["stop_reason"], final)
+
+
+@settings(max_examples=120, **DEFAULT)
+@given(st.data())
+def test_magnitudes_across_the_float_range_are_refused_or_exact(data):
+    run_magnitude_example(data)
+
+
+@pytest.mark.stress
+@settings(max_examples=3000, **STRESS)
+@given(st.data())
+def test_magnitudes_stress(data):
+    run_magnitude_example(data)

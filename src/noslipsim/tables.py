@@ -12,8 +12,8 @@ import math
 
 import numpy as np
 
-from .elements import Arc, Circle, Line, Segment
 from ._validate import positive
+from .elements import Arc, Circle, Line, Segment
 from .scenes import Scene
 
 UNIFORM_DISK = 1.0 / math.sqrt(2.0)
@@ -52,7 +52,8 @@ def channel(width=1.0, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0)):
 
 def _orient(a, b, c):
     """Sign of the turn ``a -> b -> c`` (arrays of points, broadcast): +1 left, -1 right, 0 collinear."""
-    return np.sign((b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0]))
+    return np.sign((b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1])
+                   - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0]))
 
 
 def _on_box(a, b, p):
