@@ -212,7 +212,7 @@ def main():
         "length L (V = 1)": lambda k: (2.0 ** k, 1.0),
         "velocity V (L = 1)": lambda k: (1.0, 2.0 ** k),
         "both, L = V (times unchanged)": lambda k: (2.0 ** k, 2.0 ** k),
-        "both, L = 1/V (times scaled by L^2)": lambda k: (2.0 ** k, 2.0 ** -k),
+        "both, L = 1/V (times scaled by L^2)": lambda k: (2.0 ** k, 2.0 ** -k) if abs(k) < 1020 else (math.inf, 0.0),
     }
     for label, mapping in (sweeps.items() if args.only != "ratios" else ()):
         print(f"\n## scaled in {label}: exponents k of 2^k where the orbit matches to the bit")

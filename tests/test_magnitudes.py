@@ -34,7 +34,7 @@ def _box(L=1.0, V=1.0, law="no-slip", force=(0.0, 0.0)):
 
 
 # ---------------------------------------------------------------------------- the range is exact
-@pytest.mark.parametrize("k_L, k_V", [(160, 160), (-160, -160), (160, -160), (-160, 160), (0, 165), (165, 0)])
+@pytest.mark.parametrize("k_L, k_V", [(96, 96), (-96, -96), (96, -96), (-96, 96), (0, 98), (98, 0), (0, -99), (-99, 0)])
 def test_scaled_twins_at_the_edges_of_the_range_are_the_same_orbit_to_the_bit(k_L, k_V):
     """Powers of two in length and speed scale every product exactly: the orbit must not move a bit."""
     L, V = 2.0 ** k_L, 2.0 ** k_V
@@ -49,12 +49,15 @@ def test_scaled_twins_at_the_edges_of_the_range_are_the_same_orbit_to_the_bit(k_
 
 def test_the_bounds_keep_a_margin_below_the_measured_breakdown():
     """benchmarks/magnitudes.py measured the box's scaled twins exact to the bit up to 2^+-496 in length or
-    speed alone and 2^+-224 in both (L = V); the bounds stop well inside, and a twin past them is refused."""
-    assert 2.0 ** -224 < MIN_MAGNITUDE and MAX_MAGNITUDE < 2.0 ** 224
+    speed alone, 2^+-240 in both (L = V), and 2^-176..2^160 in speed alone under gravity; the bounds stop
+    well inside, and a twin past them is refused."""
+    assert 2.0 ** -176 < MIN_MAGNITUDE and MAX_MAGNITUDE < 2.0 ** 160
     with pytest.raises(ValueError, match=r"^elements: the table's coordinates reach"):
-        _box(2.0 ** 170, 1.0)
+        _box(2.0 ** 110, 1.0)
     with pytest.raises(ValueError, match=r"^velocity: speed"):
-        simulate(_box(), (0.2, 0.7), (0.8 * 2.0 ** 170, 0.0))
+        simulate(_box(), (0.2, 0.7), (0.8 * 2.0 ** 110, 0.0))
+    with pytest.raises(ValueError, match=r"^velocity: speed scale sqrt"):
+        simulate(_box(1.0, 2.0 ** 110, force=(0.0, -1.0)), (0.2, 0.7), (0.0, 0.0))
 
 
 # ---------------------------------------------------------------------------- the issue's cases, CLI
@@ -63,13 +66,13 @@ def test_huge_velocity_is_refused_in_one_line(capsys, tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # no numpy overflow warning on the way
         status, err = run_main(["simulate", path, *START, "--velocity", "1e200", "1e200"], capsys)
-    assert_one_line_error(status, err, "--velocity:", "1.41e+200", "1e+50", "Range of validity")
+    assert_one_line_error(status, err, "--velocity:", "1.41e+200", "1e+30", "Range of validity")
 
 
 def test_tiny_velocity_is_refused_in_one_line(capsys, tmp_path):
     path = scene_file(tmp_path, BOX)
     status, err = run_main(["simulate", path, *START, "--velocity", "1e-300", "1e-300"], capsys)
-    assert_one_line_error(status, err, "--velocity:", "below 1e-50")
+    assert_one_line_error(status, err, "--velocity:", "below 1e-30")
 
 
 def test_huge_force_is_refused_in_one_line(capsys, tmp_path):
@@ -140,8 +143,8 @@ def test_simple_polygons_are_accepted():
 
 # ---------------------------------------------------------------------------- degenerate tables
 @pytest.mark.parametrize("elements, text", [
-    ([Segment((0, 0), (1e60, 0)), Segment((1e60, 0), (0, 1e60)), Segment((0, 1e60), (0, 0))], "reach 1e+60"),
-    ([Circle((0, 0), 1e-60, "inside")], "size is 1e-60"),
+    ([Segment((0, 0), (1e40, 0)), Segment((1e40, 0), (0, 1e40)), Segment((0, 1e40), (0, 0))], "reach 1e+40"),
+    ([Circle((0, 0), 1e-40, "inside")], "size is 1e-40"),
     ([Segment((0, 0), (1, 0)), Segment((1, 0), (1, 1e-10)), Segment((1, 1e-10), (0, 0))], "segment length"),
     ([Circle((0, 0), 1.0, "inside"), Circle((0.5, 0), 1e-12)], "circle radius"),
     ([Arc((0, 0), 1.0, 0.0, 1e-12, "inside"), Segment((1, 1e-12), (1, 0))], "arc length"),
@@ -153,7 +156,7 @@ def test_degenerate_tables_are_refused(elements, text):
         Scene(tuple(elements))
 
 
-@pytest.mark.parametrize("force, ok", [((0.0, 1e-160), False), ((0.0, 1e151), False), ((0.0, 1e-140), True),
+@pytest.mark.parametrize("force, ok", [((0.0, 1e-91), False), ((0.0, 1e91), False), ((0.0, 1e-89), True),
                                        ((1e-300, -1.0), True), ((0.0, 0.0), True)])
 def test_force_magnitude_range(force, ok):
     if ok:
@@ -176,16 +179,16 @@ def test_a_start_far_from_a_small_table_is_refused():
 
 
 def test_the_speed_scale_of_free_fall_counts_the_force():
-    scene = tables.half_plane(gravity=1e140)
+    scene = tables.half_plane(gravity=1e80)
     with pytest.raises(ValueError, match=r"^velocity: speed scale sqrt\(\|a\| L\)"):
         simulate(scene, (0.0, 1.0), (0.0, 0.0))
     ds = simulate(tables.half_plane(gravity=1e-40), (0.0, 1.0), (0.0, 0.0), max_collisions=2)
-    assert float(ds.t[0]) == pytest.approx(math.sqrt(2e40), rel=1e-15)
+    assert float(ds.t[0]) == pytest.approx(math.sqrt(2e40), rel=1e-15)  # speed scale 1e-20: in range
 
 
 def test_a_start_at_the_origin_of_a_table_of_lines_through_it_is_measured_by_its_height():
-    with pytest.raises(ValueError, match="^position: .*below 1e-50"):
-        simulate(tables.half_plane(), (0.0, 1e-60), (1.0, 0.0))
+    with pytest.raises(ValueError, match="^position: .*below 1e-30"):
+        simulate(tables.half_plane(), (0.0, 1e-40), (1.0, 0.0))
 
 
 def test_ensembles_name_the_orbit_out_of_range():

@@ -114,15 +114,15 @@ def _check_lattice_segments(elements, lattice):
 
 #: Range of validity (docs/conventions.md, "Range of validity"): lengths (the table's size, a
 #: start's distance from its cell's origin) and speeds must lie in ``[MIN_MAGNITUDE, MAX_MAGNITUDE]``.
-#: The engine forms products of up to two lengths and two speeds (``|q|^2``, ``(q.v)^2``); at these
-#: bounds every such product stays 100 decades away from overflow and from the subnormals, and
-#: scaled twins (``benchmarks/magnitudes.py``) stay exact to the bit far beyond them (1e+-149 in
-#: length or speed alone, 1e+-67 in both at once).
-MAX_MAGNITUDE = 1e50
-MIN_MAGNITUDE = 1e-50
-#: A force's magnitude ``|a|`` (an acceleration, a speed squared over a length) must lie in this
-#: range when it is not zero: ``MIN_MAGNITUDE**3 .. MAX_MAGNITUDE**3`` (past it ``|a|^2`` in the
-#: quartic's leading coefficient leaves the normal floats).
+#: The engine multiplies lengths ``L``, speeds ``V`` and forces ``~V^2/L`` into terms such as
+#: ``|q|^2``, ``(q.v)^2`` and ``(a.v)^2 ~ V^6/L^2``; with both in ``1e+-30`` every product of up to
+#: eight of them stays a normal float (``1e+-240``), and the scaled twins of
+#: ``benchmarks/magnitudes.py`` are exact to the bit well beyond (1e+-149 in length alone, 1e+-72
+#: in both, 1e+-48 in speed alone under a force, where ``(a.v)^2`` is the first to overflow).
+MAX_MAGNITUDE = 1e30
+MIN_MAGNITUDE = 1e-30
+#: A force's magnitude ``|a|`` (an acceleration: a speed squared over a length) must lie in this
+#: range when it is not zero: ``MIN_MAGNITUDE**3 .. MAX_MAGNITUDE**3``.
 MIN_FORCE = MIN_MAGNITUDE ** 3
 MAX_FORCE = MAX_MAGNITUDE ** 3
 #: Every segment, radius and arc must be at least this fraction of the table's size: the engine's
