@@ -10,6 +10,7 @@ import warnings
 
 import numpy as np
 import pytest
+from test_cli import assert_one_line_error, run_main, scene_file
 
 import noslipsim as ns
 from noslipsim import Scene, simulate, simulate_many, tables
@@ -17,8 +18,6 @@ from noslipsim.cli import main
 from noslipsim.elements import Arc, Circle, Segment
 from noslipsim.experiments.orbit_sets import phase_portrait
 from noslipsim.scenes import MAX_MAGNITUDE, MIN_FEATURE, MIN_MAGNITUDE
-
-from test_cli import assert_one_line_error, run_main, scene_file
 
 BOX = "law: no-slip\nelements:\n" + "".join(
     f"  - {{type: segment, p0: {p0}, p1: {p1}}}\n"
@@ -162,7 +161,7 @@ def test_force_magnitude_range(force, ok):
     if ok:
         _box().replace(force=force)
     else:
-        with pytest.raises(ValueError, match="^force: "):
+        with pytest.raises(ValueError, match=r"^force: "):
             _box().replace(force=force)
 
 
@@ -173,7 +172,7 @@ def test_features_at_the_floor_are_accepted():
 # ---------------------------------------------------------------------------- starts and requests
 def test_a_start_far_from_a_small_table_is_refused():
     scene = tables.two_disks(0.5)
-    with pytest.raises(ValueError, match="^position: .*smallest piece"):
+    with pytest.raises(ValueError, match=r"^position: .*smallest piece"):
         simulate(scene, (1e12, 0.0), (-1.0, 0.0))
     simulate(scene, (10.0, 0.0), (-1.0, 0.0), max_collisions=1)
 
@@ -187,7 +186,7 @@ def test_the_speed_scale_of_free_fall_counts_the_force():
 
 
 def test_a_start_at_the_origin_of_a_table_of_lines_through_it_is_measured_by_its_height():
-    with pytest.raises(ValueError, match="^position: .*below 1e-30"):
+    with pytest.raises(ValueError, match=r"^position: .*below 1e-30"):
         simulate(tables.half_plane(), (0.0, 1e-40), (1.0, 0.0))
 
 
@@ -202,10 +201,10 @@ def test_ensembles_name_the_orbit_out_of_range():
 
 
 def test_empty_requests_are_refused_by_name(tmp_path):
-    with pytest.raises(ValueError, match="^n_orbits: "):
+    with pytest.raises(ValueError, match=r"^n_orbits: "):
         phase_portrait(_box(), n_orbits=0)
-    with pytest.raises(ValueError, match="^n_collisions: "):
+    with pytest.raises(ValueError, match=r"^n_collisions: "):
         phase_portrait(_box(), n_orbits=2, n_collisions=0)
     for out in (None, tmp_path / "ens"):
-        with pytest.raises(ValueError, match="^positions: no starts"):
+        with pytest.raises(ValueError, match=r"^positions: no starts"):
             simulate_many(_box(), np.zeros((0, 2)), np.zeros((0, 2)), out=out)
