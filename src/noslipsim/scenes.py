@@ -163,8 +163,10 @@ def _check_magnitudes(scene):
     for i, e in enumerate(scene.elements):
         for what, value in _features(e):
             if not value >= floor:
-                raise ValueError(f"elements[{i}]: a {e.type_name} {what} of {value:.3g} is below {MIN_FEATURE:g} "
-                                 f"times the table's size {size:.3g}: it would lie within the engine's tolerances "
+                why = (f"{MIN_FEATURE:g} times the table's size {size:.3g}: it would lie within the engine's "
+                       "tolerances" if floor > MIN_MAGNITUDE else
+                       f"{MIN_MAGNITUDE:g}, the smallest length the engine is exact for")
+                raise ValueError(f"elements[{i}]: a {e.type_name} {what} of {value:.3g} is below {why} "
                                  f"({_RANGE_DOC})")
     a = math.hypot(*scene.force)
     if a != 0.0 and not MIN_FORCE <= a <= MAX_FORCE:
