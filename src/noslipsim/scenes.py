@@ -218,6 +218,11 @@ class Scene:
             no_unknown_keys(self.lattice, {"a1", "a2"}, "lattice")
             a1 = finite_vector(required(self.lattice, "a1", "lattice"), "lattice.a1")
             a2 = finite_vector(required(self.lattice, "a2", "lattice"), "lattice.a2")
+            for name, a in (("a1", a1), ("a2", a2)):
+                length = math.hypot(*a)
+                if not MIN_MAGNITUDE <= length <= MAX_MAGNITUDE:
+                    raise ValueError(f"lattice.{name}: |{name}| = {length:.3g} lies outside [{MIN_MAGNITUDE:g}, "
+                                     f"{MAX_MAGNITUDE:g}], the lengths the engine is exact for ({_RANGE_DOC})")
             if abs(a1[0] * a2[1] - a1[1] * a2[0]) == 0.0:
                 raise ValueError("lattice: a1 and a2 must be linearly independent")
             object.__setattr__(self, "lattice", {"a1": [float(v) for v in a1], "a2": [float(v) for v in a2]})
