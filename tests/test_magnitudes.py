@@ -214,3 +214,12 @@ def test_empty_requests_are_refused_by_name(tmp_path):
     for out in (None, tmp_path / "ens"):
         with pytest.raises(ValueError, match=r"^positions: no starts"):
             simulate_many(_box(), np.zeros((0, 2)), np.zeros((0, 2)), out=out)
+
+
+def test_a_level_beyond_the_range_is_refused():
+    board = tables.galton_board()
+    with pytest.raises(ValueError, match=r"^stop_below: -1e\+200 lies beyond 1e\+30"):
+        simulate(board, (1.0, 0.9), (0.1, 0.0), stop_below=-1e200)
+    with pytest.raises(ValueError, match=r"^stop_below: -1e\+200 lies beyond"):
+        simulate_many(board, [[1.0, 0.9]], [[0.1, 0.0]], stop_below=-1e200, scheduler="sync")
+    assert simulate(board, (1.0, 0.9), (0.1, 0.0), stop_below=-1e10, max_collisions=5).attrs["stop_reason"]

@@ -27,12 +27,11 @@ from ._engine.run import run_orbits
 from ._engine.table import kernel_table
 from ._metadata import annotate
 from ._scheduler import check_scheduler, run_tasks
-from ._validate import finite_float
 from ._version import __version__
 from .core import layout
 from .core.batch import F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y
 from .scenes import Scene
-from .simulate import START_MARGIN, check_limits, check_magnitudes
+from .simulate import START_MARGIN, check_level, check_limits, check_magnitudes
 
 RECORDS = ("final", "count", "portrait", "log")
 STOP_FLAGS = {"flag_values": list(range(len(layout.STOP_REASONS))),
@@ -248,7 +247,7 @@ def simulate_many(scene: Scene, positions: ArrayLike, velocities: ArrayLike, spi
         raise ValueError(f"num_workers: must be a positive integer, got {num_workers!r}")
     check_scheduler(scheduler)
     max_collisions, max_time = check_limits(max_collisions, max_time)
-    level = -math.inf if stop_below is None else finite_float(stop_below, "stop_below")
+    level = check_level(stop_below)
     mask = np.zeros(len(scene.elements), dtype=np.bool_)
     if record == "portrait":
         chosen = range(len(scene.elements)) if elements is None else list(elements)

@@ -114,6 +114,17 @@ def check_start(scene: Scene, position, velocity, spin):
     return q, v, w
 
 
+def check_level(stop_below):
+    """``-inf`` for no level, else ``stop_below`` as a finite height within the lengths the engine is exact for."""
+    if stop_below is None:
+        return -math.inf
+    level = finite_float(stop_below, "stop_below")
+    if abs(level) > MAX_MAGNITUDE:
+        raise ValueError(f"stop_below: {level:.3g} lies beyond {MAX_MAGNITUDE:g}, the largest length the engine is "
+                         f"exact for ({_RANGE_DOC})")
+    return level
+
+
 def check_limits(max_collisions, max_time):
     """Validate stop limits: a finite collision budget and a positive time limit."""
     if isinstance(max_collisions, bool) or not isinstance(max_collisions, (int, np.integer)):
@@ -164,7 +175,7 @@ def simulate(scene: Scene, position: ArrayLike, velocity: ArrayLike, spin: float
         raise ValueError(f"scene: expected a noslipsim.Scene, got {type(scene).__name__}")
     q, v, w = check_start(scene, position, velocity, spin)
     max_collisions, max_time = check_limits(max_collisions, max_time)
-    level = -math.inf if stop_below is None else finite_float(stop_below, "stop_below")
+    level = check_level(stop_below)
     if level >= q[1]:
         raise ValueError(f"stop_below: {level} must lie below the start height {q[1]}")
     try:
