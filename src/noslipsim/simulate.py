@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Callable
 
 import numpy as np
 import xarray as xr
@@ -29,7 +30,9 @@ _COLUMNS = {
 START_MARGIN = 1e-12
 
 
-def check_magnitudes(scene: Scene, rel, v, w, fields=("position", "velocity", "spin"), orbit=""):
+def check_magnitudes(scene: Scene, rel: ArrayLike, v: ArrayLike, w: ArrayLike,
+                     fields: tuple[str, str, str] = ("position", "velocity", "spin"),
+                     orbit: str | Callable[[int], str] = "") -> None:
     """Refuse starts outside the range of scales the engine is exact for (docs/conventions.md).
 
     ``rel`` are the start positions relative to their cell's origin (``(N, 2)``), ``v`` the
@@ -114,7 +117,7 @@ def check_start(scene: Scene, position, velocity, spin):
     return q, v, w
 
 
-def check_level(stop_below):
+def check_level(stop_below: float | None) -> float:
     """``-inf`` for no level, else ``stop_below`` as a finite height within the lengths the engine is exact for."""
     if stop_below is None:
         return -math.inf
