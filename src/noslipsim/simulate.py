@@ -41,7 +41,7 @@ def check_magnitudes(scene: Scene, rel: ArrayLike, v: ArrayLike, w: ArrayLike,
     or ``max(|v|, sqrt(|a| L))`` under free fall.  Both must lie in ``[MIN_MAGNITUDE,
     MAX_MAGNITUDE]``, ``|w| <= MAX_MAGNITUDE``, and the table's smallest piece must be at least
     ``MIN_FEATURE L`` (the engine's tolerances are relative to ``L``).  ``orbit`` prefixes the
-    messages (``'orbit 3 '``, a callable of the orbit's index, for ensembles).
+    messages: a string, or a callable of the orbit's index (``lambda i: f'orbit {i}: '`` for ensembles).
     """
     pos, vel, spin = fields
     rel, v, w = np.atleast_2d(rel), np.atleast_2d(v), np.atleast_1d(w)
