@@ -223,3 +223,15 @@ def test_a_level_beyond_the_range_is_refused():
     with pytest.raises(ValueError, match=r"^stop_below: -1e\+200 lies beyond"):
         simulate_many(board, [[1.0, 0.9]], [[0.1, 0.0]], stop_below=-1e200, scheduler="sync")
     assert simulate(board, (1.0, 0.9), (0.1, 0.0), stop_below=-1e10, max_collisions=5).attrs["stop_reason"]
+
+
+def test_the_thermostat_takes_its_speed_scale_from_the_speed_alone():
+    """The isokinetic thermostat keeps |v|: a speed below the range is refused even under a strong field
+    (free fall would accelerate it, and is accepted); with zero force it is the straight-flight engine."""
+    cell = tables.hex_lorentz_cell(0.4, force=(1.0, 0.0))
+    with pytest.raises(ValueError, match=r"^velocity: speed 1e-40 is below 1e-30"):
+        simulate(cell.replace(thermostat="isokinetic"), (0.45, 0.1), (1e-40, 0.0))
+    ds = simulate(cell, (0.45, 0.1), (1e-40, 0.0), max_collisions=2)
+    assert int(ds.n_collisions) == 2
+    with pytest.raises(ValueError, match=r"^velocity: zero speed with zero force"):
+        simulate(cell.replace(force=(0.0, 0.0), thermostat="isokinetic"), (0.45, 0.1), (0.0, 0.0))
