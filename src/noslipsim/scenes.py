@@ -349,7 +349,13 @@ class Scene:
         for e, o1, o2 in scene_copies(self):
             dx, dy = A @ np.array([o1 + cell[0], o2 + cell[1]], float)
             elems.append(self.elements[e].shifted(dx, dy))
-        return self.replace(elements=tuple(elems), lattice=None)
+        # the copies are validated elements; the scene of a far cell is for inside tests only (the kernel
+        # runs relative to the cell), so it is not measured against the range of validity again
+        out = object.__new__(Scene)
+        for name, value in dict(elements=tuple(elems), law=self.law, gamma=self.gamma, force=self.force,
+                                lattice=None, thermostat=self.thermostat).items():
+            object.__setattr__(out, name, value)
+        return out
 
     @property
     def smallest_feature(self) -> float:
