@@ -25,6 +25,7 @@ from noslipsim._engine.table import kernel_table
 from noslipsim.core import layout
 from noslipsim.core.loop import orbit_kernel, run_orbit
 from noslipsim.core.variant import GENERAL
+from noslipsim.scenes import MIN_FORCE
 from noslipsim.simulate import start_cell
 
 N_COLL = 20_000
@@ -155,7 +156,8 @@ def test_kernel_variant_asks_only_for_what_the_scene_needs(name, law, mode):
 
 
 @pytest.mark.parametrize("force,has", [((0.0, 0.0), False), ((0.0, -0.0), False), ((-0.0, -0.0), False),
-                                       ((0.0, 1e-300), True), ((-2.0, 0.0), True)])
+                                       ((0.0, MIN_FORCE), True), ((1e-300, MIN_FORCE), True), ((-2.0, 0.0), True)])
 def test_force_flag_is_false_exactly_for_zero_force(force, has):
+    # the smallest force a scene accepts (docs/conventions.md, "Range of validity"; 1e-300 alone is refused)
     scene = tables.regular_polygon(5, force=force)
     assert kernel_table(scene).variant(NONE)[0] is has

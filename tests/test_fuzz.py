@@ -15,6 +15,7 @@ compiled kernel ends the run with a traceback instead of stalling it).
 import faulthandler
 import math
 import re
+import warnings
 
 import numpy as np
 import pytest
@@ -363,3 +364,124 @@ def run_ensemble_example(data):
 @given(st.data())
 def test_ensemble_stress(data):
     run_ensemble_example(data)
+
+
+# ---------------------------------------------------------------------------- magnitudes
+#: Named tables with a start inside (in table units), a direction, and whether the force may be on.
+MAGNITUDE_TABLES = [
+    (tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.3)]), (0.2, 0.7)),
+    (tables.stadium(), (0.1, 0.2)),
+    (tables.half_plane(), (0.0, 1.0)),
+    (tables.sinai_torus(0.3), (0.5, 0.45)),
+    (tables.hex_lorentz_cell(0.4).replace(thermostat="isokinetic"), (0.45, 0.1)),
+    (tables.two_disks(0.4), (0.0, 0.9)),
+]
+#: Any positive finite float, and the edges of the range and of the float format.
+magnitude = st.one_of(st.floats(min_value=5e-324, max_value=1.7976931348623157e308),
+                      st.sampled_from([5e-324, 1e-300, 1e-91, 1e-90, 1e-30, 1e-29, 1.0, 1e29, 1e30, 1e31,
+                                       1e90, 1e91, 1e300, 1.7976931348623157e308]))
+
+
+def _scaled(scene, L, V=1.0):
+    """The scene mapping with lengths times ``L`` and the force times ``V^2/L``."""
+    d = scene.to_dict()
+    for e in d["elements"]:
+        for key in ("point", "p0", "p1", "center"):
+            if key in e:
+                e[key] = [c * L for c in e[key]]
+        if "radius" in e:
+            e["radius"] *= L
+    if "lattice" in d:
+        d["lattice"] = {k: [c * L for c in a] for k, a in d["lattice"].items()}
+    d["force"] = [f * V * V / L for f in d["force"]]
+    return d
+
+
+def _flights_stay_in_the_table(scene, ds, size):
+    """Every flight between two collisions stays in the table (a missed collision passes through a wall)."""
+    n = ds.sizes["collision"]
+    if n < 2:
+        return
+    t = ds.t.values
+    for frac in (0.25, 0.5, 0.75):
+        tau = frac * np.diff(t)
+        x, y, _, _ = scene.flight_states(ds.x.values[:-1], ds.y.values[:-1], ds.vx.values[:-1],
+                                         ds.vy.values[:-1], tau)
+        depth = scene.depth(np.c_[x, y])
+        assert (depth >= -1e-7 * size).all(), (frac, depth.min(), size)
+
+
+def _orbit_or_refusal(scene, q, v, w):
+    """``simulate``'s orbit (checked finite and in the table) or ``None`` for a refusal naming the field."""
+    ds = check_orbit(scene, q, v, w, 12, math.inf, None)
+    if ds is None:
+        return None
+    for var in ("x", "y", "vx", "vy", "spin", "t", "s"):
+        assert np.isfinite(ds[var].values).all(), var
+    final = np.array([[float(ds.x_final), float(ds.y_final)]])
+    assert np.isfinite(final).all()
+    size = max(scene.scale, abs(q[0]), abs(q[1]))
+    if ds.attrs["stop_reason"] != "escape":
+        assert scene.depth(final)[0] >= -1e-8 * size, (ds.attrs["stop_reason"], final)
+    _flights_stay_in_the_table(scene, ds, size)
+    return ds
+
+
+#: The same tables' unit orbits, the oracle of their scaled twins (computed once).
+_UNIT_ORBITS = {}
+
+
+def run_magnitude_example(data):
+    """Any table of the list scaled by any float, any force, speed and spin: refused by name, or in the table;
+    and when scaled by powers of two with a force scaled with it, the unit orbit scaled to the bit."""
+    index = data.draw(st.integers(0, len(MAGNITUDE_TABLES) - 1))
+    base, start = MAGNITUDE_TABLES[index]
+    direction = data.draw(st.floats(0.0, 2 * math.pi))
+    twin = data.draw(st.booleans()) and index != 1  # the stadium's arcs are exact, but not to the bit
+    if twin:  # powers of two, biased towards the accepted range: the orbit must be the unit one, scaled
+        kL = data.draw(st.one_of(st.integers(-99, 99), st.integers(-99, 99), st.integers(-1074, 1023)))
+        kV = data.draw(st.one_of(st.integers(-99, 99), st.integers(-1074, 1023)))
+        L, V = math.ldexp(1.0, kL), math.ldexp(1.0, kV)
+        gravity = (0.0, 0.0) if base.thermostat is None and base.lattice is not None else (0.3, -0.4)
+        base = base.replace(force=gravity)
+        d = _scaled(base, L, V)
+        w = 0.3
+    else:  # anything
+        L = data.draw(st.one_of(st.just(1.0), st.floats(1e-25, 1e25), magnitude))
+        V = data.draw(magnitude)
+        d = _scaled(base, L)
+        a = data.draw(st.one_of(st.just(0.0), magnitude))
+        d["force"] = [a * math.cos(direction + 1.0), a * math.sin(direction + 1.0)]
+        w = data.draw(st.one_of(st.just(0.0), magnitude)) * data.draw(st.sampled_from([1.0, -1.0]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow or invalid-value warning on the way to an answer
+        try:
+            scene = Scene.from_dict(d)
+        except ValueError as err:
+            assert SCENE_FIELD.match(str(err)), repr(err)
+            return
+        v = (V * math.cos(direction), V * math.sin(direction))
+        ds = _orbit_or_refusal(scene, (start[0] * L, start[1] * L), v, w * V if twin else w)
+    if ds is None or not twin:
+        return
+    key = (index, direction, base.force)
+    if key not in _UNIT_ORBITS:
+        _UNIT_ORBITS[key] = ns.simulate(base, start, (math.cos(direction), math.sin(direction)), w,
+                                        max_collisions=12)
+    ref = _UNIT_ORBITS[key]
+    np.testing.assert_array_equal(ds.element.values, ref.element.values)
+    for var, unit in (("t", L / V), ("x", L), ("y", L), ("vx", V), ("vy", V), ("spin", V)):
+        np.testing.assert_array_equal(ds[var].values / unit, ref[var].values, err_msg=var)
+
+
+@settings(max_examples=200, **DEFAULT)
+@given(st.data())
+def test_magnitudes_across_the_float_range_are_refused_or_exact(data):
+    run_magnitude_example(data)
+
+
+@pytest.mark.stress
+@settings(max_examples=3000, **STRESS)
+@given(st.data())
+def test_magnitudes_stress(data):
+    run_magnitude_example(data)

@@ -24,6 +24,8 @@ def write_netcdf_atomically(ds: xr.Dataset, path: str | os.PathLike, lock: Any =
     half a file and a killed writer leaves none.  ``lock`` (a context manager) is held while netCDF
     writes: the library is not thread-safe."""
     path = os.fspath(path)
+    if os.path.isdir(path):
+        raise IsADirectoryError(21, "is a folder, not a file name", path)
     folder = os.path.dirname(os.path.abspath(path))
     os.makedirs(folder, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".nc", dir=folder)

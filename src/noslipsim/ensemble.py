@@ -27,12 +27,11 @@ from ._engine.run import run_orbits
 from ._engine.table import kernel_table
 from ._metadata import annotate
 from ._scheduler import check_scheduler, run_tasks
-from ._validate import finite_float
 from ._version import __version__
 from .core import layout
 from .core.batch import F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y
 from .scenes import Scene
-from .simulate import START_MARGIN, check_limits
+from .simulate import START_MARGIN, check_level, check_limits, check_magnitudes
 
 RECORDS = ("final", "count", "portrait", "log")
 STOP_FLAGS = {"flag_values": list(range(len(layout.STOP_REASONS))),
@@ -48,7 +47,7 @@ def _array(value, shape_tail, n, field):
     if arr.ndim != 1 + len(shape_tail) or arr.shape[1:] != shape_tail or (n is not None and len(arr) != n):
         want = f"({n if n is not None else 'N'}{''.join(', ' + str(k) for k in shape_tail)})"
         raise ValueError(f"{field}: expected shape {want}, got {arr.shape}")
-    bad = ~np.isfinite(arr).reshape(len(arr), -1).all(axis=1)
+    bad = ~np.isfinite(arr).all(axis=tuple(range(1, arr.ndim)))
     if bad.any():
         raise ValueError(f"{field}: non-finite value for orbit {int(np.argmax(bad))}")
     return np.ascontiguousarray(arr)
@@ -76,6 +75,8 @@ def check_starts(scene: Scene, positions, velocities, spins, start_elements=None
     """
     q = _array(positions, (2,), None, "positions")
     n = len(q)
+    if n == 0:
+        raise ValueError("positions: no starts given; an ensemble needs at least one orbit")
     v = _array(velocities, (2,), n, "velocities")
     w = np.zeros(n) if spins is None else _array(spins, (), n, "spins")
     on = np.full(n, -1, dtype=np.int64) if start_elements is None else _indices(start_elements, "start_elements")
@@ -92,6 +93,10 @@ def check_starts(scene: Scene, positions, velocities, spins, start_elements=None
         if still.any():
             raise ValueError(f"velocities: orbit {int(np.argmax(still))} has zero speed; the isokinetic "
                              "thermostat keeps the speed, so it needs a nonzero one")
+    if n:
+        rel_all = q - (cell_origin(cell_of(q, scene.lattice, "positions"), scene.lattice)
+                       if scene.lattice is not None else 0.0)
+        check_magnitudes(scene, rel_all, v, w, ("positions", "velocities", "spins"), lambda i: f"orbit {i}: ")
     inside = on < 0
     if inside.any():
         rel = q[inside] - (cell_origin(cell_of(q[inside], scene.lattice, "positions"), scene.lattice)
@@ -242,7 +247,7 @@ def simulate_many(scene: Scene, positions: ArrayLike, velocities: ArrayLike, spi
         raise ValueError(f"num_workers: must be a positive integer, got {num_workers!r}")
     check_scheduler(scheduler)
     max_collisions, max_time = check_limits(max_collisions, max_time)
-    level = -math.inf if stop_below is None else finite_float(stop_below, "stop_below")
+    level = check_level(stop_below)
     mask = np.zeros(len(scene.elements), dtype=np.bool_)
     if record == "portrait":
         chosen = range(len(scene.elements)) if elements is None else list(elements)
@@ -320,8 +325,7 @@ def _simulate_to_folder(run, positions, velocities, spins, start_elements, out, 
     spins = _blocks(spins, n, "spins")
     start_elements = _blocks(start_elements, n, "start_elements")
     if n == 0:
-        return simulate_many(run["scene"], np.zeros((0, 2)), np.zeros((0, 2)), record=run["record"],
-                             **run["limits"])
+        raise ValueError("positions: no starts given; an ensemble needs at least one orbit")
     tail = run["tail"]
     row_bytes = 8 * max(1, tail[3] * tail[4])
     size = chunk_size or max(1, min(CHUNK_ORBITS, CHUNK_BYTES // row_bytes))

@@ -120,12 +120,42 @@ def describe(ds: xr.Dataset, *, title: str | None = None, config: Mapping[str, A
     return ds
 
 
+#: File name endings a dataset may be written under: netCDF is the only format written, and a
+#: name that promises another (``orbit.csv``) is refused rather than filled with netCDF.
+NETCDF_SUFFIXES = (".nc", ".nc4", ".cdf", ".netcdf")
+
+
+def check_dataset_path(path: str | os.PathLike, field: str = "path") -> str:
+    """``path`` as a string if a dataset can be written there, else ValueError naming ``field``.
+
+    Refused: a name without a netCDF ending (:data:`NETCDF_SUFFIXES`; for CSV, write
+    ``ds.to_dataframe().to_csv(...)`` yourself) and an existing folder.
+    """
+    text = os.fspath(path)
+    if os.path.isdir(text):
+        raise ValueError(f"{field}: {text!r} is a folder; give the name of the netCDF file to write (e.g. "
+                         f"{os.path.join(text, 'orbit.nc')!r})")
+    suffix = os.path.splitext(text)[1].lower()
+    if suffix not in NETCDF_SUFFIXES:
+        raise ValueError(f"{field}: {text!r} does not end in {' or '.join(NETCDF_SUFFIXES)}; datasets are written "
+                         "as netCDF only (for CSV: ds.to_dataframe().to_csv(path))")
+    return text
+
+
 def write_dataset(ds: xr.Dataset, path: str | os.PathLike, *, title: str | None = None,
                   config: Mapping[str, Any] | None = None, history: str | None = None) -> xr.Dataset:
     """Write ``ds`` to netCDF at ``path`` atomically (temporary file, then rename).
 
     Returns the dataset as written (with its global attributes).
+
+    Raises
+    ------
+    ValueError
+        ``path`` is an existing folder, or its name does not end in a netCDF
+        suffix (:data:`NETCDF_SUFFIXES`): nothing is written under a name that
+        promises another format.
     """
+    check_dataset_path(path)
     ds = describe(ds, title=title, config=config, history=history)
     write_netcdf_atomically(ds, path)
     return ds

@@ -112,6 +112,68 @@ def _check_lattice_segments(elements, lattice):
                              f"of size {size:.3g} (at least {LATTICE_MIN_SEGMENT:g} times it)")
 
 
+#: Range of validity (docs/conventions.md, "Range of validity"): lengths (the table's size, a
+#: start's distance from its cell's origin) and speeds must lie in ``[MIN_MAGNITUDE, MAX_MAGNITUDE]``.
+#: The engine multiplies lengths ``L``, speeds ``V`` and forces ``~V^2/L`` into terms such as
+#: ``|q|^2``, ``(q.v)^2`` and ``(a.v)^2 ~ V^6/L^2``; with both in ``1e+-30`` every product of up to
+#: eight of them stays a normal float (``1e+-240``), and the scaled twins of
+#: ``benchmarks/magnitudes.py`` are exact to the bit well beyond (1e+-149 in length alone, 1e+-72
+#: in both, 1e+-48 in speed alone under a force, where ``(a.v)^2`` is the first to overflow).
+MAX_MAGNITUDE = 1e30
+MIN_MAGNITUDE = 1e-30
+#: A force's magnitude ``|a|`` (an acceleration: a speed squared over a length) must lie in this
+#: range when it is not zero: ``MIN_MAGNITUDE**3 .. MAX_MAGNITUDE**3``.
+MIN_FORCE = MIN_MAGNITUDE ** 3
+MAX_FORCE = MAX_MAGNITUDE ** 3
+#: Every segment, radius and arc must be at least this fraction of the table's size: the engine's
+#: tolerances are ``1e-11`` of it (core/tolerances.py), and a smaller piece would lie inside them.
+MIN_FEATURE = 1e-9
+_RANGE_DOC = "docs/conventions.md, 'Range of validity'"
+
+
+def _features(e):
+    """``[(what, size), ...]``: the lengths of an element that must resolve against the table's size."""
+    if e.type_name == "segment":
+        return [("length", e.length())]
+    if e.type_name == "circle":
+        return [("radius", e.radius)]
+    if e.type_name == "arc":
+        return [("radius", e.radius), ("arc length", e.length())]
+    return []
+
+
+def table_size(elements, lattice=None) -> float:
+    """The table's length scale: its largest coordinate magnitude (and lattice vector), ``0`` for lines through 0."""
+    size = max(e.size() for e in elements)
+    if lattice is not None:
+        size = max(size, *(math.hypot(*lattice[k]) for k in ("a1", "a2")))
+    return float(size)
+
+
+def _check_magnitudes(scene):
+    """Refuse a table or force outside the range the engine is exact for, naming the quantity."""
+    size = table_size(scene.elements, scene.lattice)
+    if size > MAX_MAGNITUDE:
+        raise ValueError(f"elements: the table's coordinates reach {size:.3g}; the engine is exact for tables up "
+                         f"to {MAX_MAGNITUDE:g} ({_RANGE_DOC}): use a larger length unit")
+    if 0.0 < size < MIN_MAGNITUDE:
+        raise ValueError(f"elements: the table's size is {size:.3g}; the engine is exact for tables of at least "
+                         f"{MIN_MAGNITUDE:g} ({_RANGE_DOC}): use a smaller length unit")
+    floor = max(MIN_FEATURE * size, MIN_MAGNITUDE)
+    for i, e in enumerate(scene.elements):
+        for what, value in _features(e):
+            if not value >= floor:
+                why = (f"{MIN_FEATURE:g} times the table's size {size:.3g}: it would lie within the engine's "
+                       "tolerances" if floor > MIN_MAGNITUDE else
+                       f"{MIN_MAGNITUDE:g}, the smallest length the engine is exact for")
+                raise ValueError(f"elements[{i}]: a {e.type_name} {what} of {value:.3g} is below {why} "
+                                 f"({_RANGE_DOC})")
+    a = math.hypot(*scene.force)
+    if a != 0.0 and not MIN_FORCE <= a <= MAX_FORCE:
+        raise ValueError(f"force: |a| = {a:.3g} lies outside [{MIN_FORCE:g}, {MAX_FORCE:g}], the range the engine "
+                         f"is exact for ({_RANGE_DOC}); use 0 for no force")
+
+
 @dataclass(frozen=True)
 class Scene:
     """A billiard table with its physics.
@@ -156,6 +218,11 @@ class Scene:
             no_unknown_keys(self.lattice, {"a1", "a2"}, "lattice")
             a1 = finite_vector(required(self.lattice, "a1", "lattice"), "lattice.a1")
             a2 = finite_vector(required(self.lattice, "a2", "lattice"), "lattice.a2")
+            for name, a in (("a1", a1), ("a2", a2)):
+                length = math.hypot(*a)
+                if not MIN_MAGNITUDE <= length <= MAX_MAGNITUDE:
+                    raise ValueError(f"lattice.{name}: |{name}| = {length:.3g} lies outside [{MIN_MAGNITUDE:g}, "
+                                     f"{MAX_MAGNITUDE:g}], the lengths the engine is exact for ({_RANGE_DOC})")
             if abs(a1[0] * a2[1] - a1[1] * a2[0]) == 0.0:
                 raise ValueError("lattice: a1 and a2 must be linearly independent")
             object.__setattr__(self, "lattice", {"a1": [float(v) for v in a1], "a2": [float(v) for v in a2]})
@@ -164,6 +231,7 @@ class Scene:
             for i, e in enumerate(self.elements):
                 if isinstance(e, Line):
                     raise ValueError(f"elements[{i}]: infinite lines cannot be repeated on a lattice")
+        _check_magnitudes(self)
 
     # ---------------------------------------------------------------- file format
     @classmethod
@@ -281,7 +349,18 @@ class Scene:
         for e, o1, o2 in scene_copies(self):
             dx, dy = A @ np.array([o1 + cell[0], o2 + cell[1]], float)
             elems.append(self.elements[e].shifted(dx, dy))
-        return self.replace(elements=tuple(elems), lattice=None)
+        # the copies are validated elements; the scene of a far cell is for inside tests only (the kernel
+        # runs relative to the cell), so it is not measured against the range of validity again
+        out = object.__new__(Scene)
+        for name, value in dict(elements=tuple(elems), law=self.law, gamma=self.gamma, force=self.force,
+                                lattice=None, thermostat=self.thermostat).items():
+            object.__setattr__(out, name, value)
+        return out
+
+    @property
+    def smallest_feature(self) -> float:
+        """The shortest segment, smallest radius or arc length of the table (``inf`` for lines only)."""
+        return float(min((v for e in self.elements for _, v in _features(e)), default=math.inf))
 
     @property
     def scale(self) -> float:

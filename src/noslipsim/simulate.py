@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Callable
 
 import numpy as np
 import xarray as xr
@@ -17,7 +18,7 @@ from ._validate import finite_float, finite_vector
 from ._version import __version__
 from .core import layout
 from .core.batch import F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y
-from .scenes import Scene
+from .scenes import _RANGE_DOC, MAX_MAGNITUDE, MIN_FEATURE, MIN_MAGNITUDE, Scene
 
 _COLUMNS = {
     "t": layout.LOG_T, "x": layout.LOG_X, "y": layout.LOG_Y, "vx": layout.LOG_VX,
@@ -29,6 +30,65 @@ _COLUMNS = {
 START_MARGIN = 1e-12
 
 
+def check_magnitudes(scene: Scene, rel: ArrayLike, v: ArrayLike, w: ArrayLike,
+                     fields: tuple[str, str, str] = ("position", "velocity", "spin"),
+                     orbit: str | Callable[[int], str] = "") -> None:
+    """Refuse starts outside the range of scales the engine is exact for (docs/conventions.md).
+
+    ``rel`` are the start positions relative to their cell's origin (``(N, 2)``), ``v`` the
+    velocities, ``w`` the spins.  The length scale of an orbit is ``L = max(table size, |rel|)``;
+    its speed scale ``V`` is ``|v|`` (no force, or the isokinetic thermostat, which keeps ``|v|``)
+    or ``max(|v|, sqrt(|a| L))`` under free fall.  Both must lie in ``[MIN_MAGNITUDE,
+    MAX_MAGNITUDE]``, ``|w| <= MAX_MAGNITUDE``, and the table's smallest piece must be at least
+    ``MIN_FEATURE L`` (the engine's tolerances are relative to ``L``).  ``orbit`` prefixes the
+    messages: a string, or a callable of the orbit's index (``lambda i: f'orbit {i}: '`` for ensembles).
+    """
+    pos, vel, spin = fields
+    rel, v, w = np.atleast_2d(rel), np.atleast_2d(v), np.atleast_1d(w)
+    name = orbit if callable(orbit) else (lambda i: orbit)
+
+    def first(bad):
+        return int(np.argmax(bad))
+
+    with np.errstate(all="ignore"):
+        L = np.maximum(scene.scale, np.abs(rel).max(axis=1))
+        speed = np.hypot(v[:, 0], v[:, 1])
+        a = math.hypot(*scene.force)
+        V = speed if (a == 0.0 or scene.thermostat is not None) else np.maximum(speed, np.sqrt(a * L))
+    bad = L > MAX_MAGNITUDE
+    if bad.any():
+        i = first(bad)
+        raise ValueError(f"{pos}: {name(i)}|q| = {L[i]:.3g} lies beyond {MAX_MAGNITUDE:g}, the largest length the "
+                         f"engine is exact for ({_RANGE_DOC})")
+    bad = L < MIN_MAGNITUDE
+    if bad.any():
+        i = first(bad)
+        raise ValueError(f"{pos}: {name(i)}the start and the table lie within {L[i]:.3g} of the origin, below "
+                         f"{MIN_MAGNITUDE:g}, the smallest length the engine is exact for ({_RANGE_DOC})")
+    bad = scene.smallest_feature < MIN_FEATURE * L
+    if bad.any():
+        i = first(bad)
+        raise ValueError(f"{pos}: {name(i)}|q| = {L[i]:.3g} is more than {1 / MIN_FEATURE:g} times the table's "
+                         f"smallest piece ({scene.smallest_feature:.3g}), which would lie within the engine's "
+                         f"tolerances there ({_RANGE_DOC})")
+    bad = (speed > MAX_MAGNITUDE) | (V > MAX_MAGNITUDE)
+    if bad.any():
+        i = first(bad)
+        what = f"speed {speed[i]:.3g}" if speed[i] > MAX_MAGNITUDE else f"speed scale sqrt(|a| L) = {V[i]:.3g}"
+        raise ValueError(f"{vel}: {name(i)}{what} lies beyond {MAX_MAGNITUDE:g}, the largest speed the engine is "
+                         f"exact for ({_RANGE_DOC})")
+    bad = (V < MIN_MAGNITUDE) & (V > 0.0)
+    if bad.any():
+        i = first(bad)
+        raise ValueError(f"{vel}: {name(i)}speed {V[i]:.3g} is below {MIN_MAGNITUDE:g}, the smallest speed the "
+                         f"engine is exact for ({_RANGE_DOC})")
+    bad = np.abs(w) > MAX_MAGNITUDE
+    if bad.any():
+        i = first(bad)
+        raise ValueError(f"{spin}: {name(i)}|w| = {abs(w[i]):.3g} lies beyond {MAX_MAGNITUDE:g}, the largest spin "
+                         f"the engine is exact for ({_RANGE_DOC})")
+
+
 def check_start(scene: Scene, position, velocity, spin):
     """Validate one initial state; returns ``(q, v, w)`` as floats.
 
@@ -38,7 +98,9 @@ def check_start(scene: Scene, position, velocity, spin):
     q = finite_vector(position, "position")
     v = finite_vector(velocity, "velocity")
     w = finite_float(spin, "spin")
-    margin = START_MARGIN * max(scene.scale, float(np.abs(start_cell(scene, q)[2]).max()))
+    rel = start_cell(scene, q)[2]
+    check_magnitudes(scene, rel, v, w)
+    margin = START_MARGIN * max(scene.scale, float(np.abs(rel).max()))
     try:
         depth = float(scene.depth(q[None])[0])
     except ValueError as err:  # the copies of the elements around a far cell collapse in rounding
@@ -53,6 +115,17 @@ def check_start(scene: Scene, position, velocity, spin):
     if v[0] == 0.0 and v[1] == 0.0 and scene.thermostat is not None:
         raise ValueError("velocity: the isokinetic thermostat keeps the speed, so it needs a nonzero one")
     return q, v, w
+
+
+def check_level(stop_below: float | None) -> float:
+    """``-inf`` for no level, else ``stop_below`` as a finite height within the lengths the engine is exact for."""
+    if stop_below is None:
+        return -math.inf
+    level = finite_float(stop_below, "stop_below")
+    if abs(level) > MAX_MAGNITUDE:
+        raise ValueError(f"stop_below: {level:.3g} lies beyond {MAX_MAGNITUDE:g}, the largest length the engine is "
+                         f"exact for ({_RANGE_DOC})")
+    return level
 
 
 def check_limits(max_collisions, max_time):
@@ -106,7 +179,7 @@ def simulate(scene: Scene, position: ArrayLike, velocity: ArrayLike, spin: float
         raise ValueError(f"scene: expected a noslipsim.Scene, got {type(scene).__name__}")
     q, v, w = check_start(scene, position, velocity, spin)
     max_collisions, max_time = check_limits(max_collisions, max_time)
-    level = -math.inf if stop_below is None else finite_float(stop_below, "stop_below")
+    level = check_level(stop_below)
     if level >= q[1]:
         raise ValueError(f"stop_below: {level} must lie below the start height {q[1]}")
     try:

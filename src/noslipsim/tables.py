@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 
+from ._validate import positive
 from .elements import Arc, Circle, Line, Segment
 from .scenes import Scene
 
@@ -49,15 +50,59 @@ def channel(width=1.0, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0)):
     return _scene([Line((0.0, 0.0), (0.0, 1.0)), Line((0.0, width), (0.0, -1.0))], law, gamma, force)
 
 
+def _orient(a, b, c):
+    """Sign of the turn ``a -> b -> c`` (arrays of points, broadcast): +1 left, -1 right, 0 collinear."""
+    return np.sign((b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1])
+                   - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0]))
+
+
+def _on_box(a, b, p):
+    """``p`` within the bounding box of ``a b`` (for collinear points: on the segment)."""
+    return ((np.minimum(a[..., 0], b[..., 0]) <= p[..., 0]) & (p[..., 0] <= np.maximum(a[..., 0], b[..., 0]))
+            & (np.minimum(a[..., 1], b[..., 1]) <= p[..., 1]) & (p[..., 1] <= np.maximum(a[..., 1], b[..., 1])))
+
+
+def _check_simple(v):
+    """Refuse a polygon whose edges cross or touch away from their shared vertices, or fold back on themselves."""
+    n = len(v)
+    a, b = v, np.roll(v, -1, axis=0)
+    # an edge that turns straight back along the previous one (a spike of zero width)
+    d0, d1 = b - a, np.roll(b - a, -1, axis=0)
+    back = (d0[:, 0] * d1[:, 1] - d0[:, 1] * d1[:, 0] == 0) & (np.sum(d0 * d1, axis=1) < 0)
+    if back.any():
+        k = int(np.argmax(back))
+        raise ValueError(f"vertices: the polygon folds back on itself at vertex {(k + 1) % n} "
+                         f"{v[(k + 1) % n].tolist()}")
+    i, j = np.triu_indices(n, 2)
+    keep = ~((i == 0) & (j == n - 1))  # the last edge meets the first at vertex 0
+    i, j = i[keep], j[keep]
+    p1, p2, p3, p4 = a[i], b[i], a[j], b[j]
+    o1, o2, o3, o4 = _orient(p1, p2, p3), _orient(p1, p2, p4), _orient(p3, p4, p1), _orient(p3, p4, p2)
+    cross = (o1 * o2 < 0) & (o3 * o4 < 0)
+    touch = (((o1 == 0) & _on_box(p1, p2, p3)) | ((o2 == 0) & _on_box(p1, p2, p4))
+             | ((o3 == 0) & _on_box(p3, p4, p1)) | ((o4 == 0) & _on_box(p3, p4, p2)))
+    bad = cross | touch
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise ValueError(f"vertices: the polygon is not simple: edge {i[k]} ({p1[k].tolist()} -> {p2[k].tolist()}) "
+                         f"meets edge {j[k]} ({p3[k].tolist()} -> {p4[k].tolist()})")
+
+
 def polygon(vertices, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0), disks=()):
     """Polygon table from its vertices (either orientation; stored counter-clockwise).
 
     ``disks`` adds circular scatterers ``(cx, cy, r)`` inside it.  Element
     ``i`` is the edge from vertex ``i`` to vertex ``i+1`` (after orientation).
     """
-    v = np.asarray(vertices, dtype=float)
+    try:
+        v = np.asarray(vertices, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"vertices: expected at least 3 points (x, y), got {vertices!r}") from None
     if v.ndim != 2 or v.shape[1] != 2 or len(v) < 3:
         raise ValueError("vertices: expected at least 3 points (x, y)")
+    if not np.all(np.isfinite(v)):
+        raise ValueError("vertices: must be finite")
+    _check_simple(v)
     area = 0.5 * np.sum(v[:, 0] * np.roll(v[:, 1], -1) - np.roll(v[:, 0], -1) * v[:, 1])
     if area == 0 or not np.isfinite(area):
         raise ValueError("vertices: the polygon has zero or undefined area")
@@ -79,6 +124,7 @@ def regular_polygon(n, *, circumradius=1.0, law="no-slip", gamma=UNIFORM_DISK, f
 
 def rectangle(width=2.0, height=1.0, *, disks=(), law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0)):
     """Rectangle ``[0, width] x [0, height]`` (edges bottom, right, top, left) with disk scatterers ``(cx, cy, r)``."""
+    width, height = positive(width, "width"), positive(height, "height")
     return polygon([(0, 0), (width, 0), (width, height), (0, height)], disks=disks,
                    law=law, gamma=gamma, force=force)
 

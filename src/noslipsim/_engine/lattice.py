@@ -74,7 +74,8 @@ def _reaches(e, A, B, o1, o2):
                 if abs(p[k]) > h:
                     return False
                 continue
-            s0, s1 = sorted(((-h - p[k]) / d[k], (h - p[k]) / d[k]))
+            with np.errstate(over="ignore"):  # a tiny d[k]: the bounds are +-inf, which is right
+                s0, s1 = sorted(((-h - p[k]) / d[k], (h - p[k]) / d[k]))
             lo, hi = max(lo, s0), min(hi, s1)
         return lo <= hi
     # circles and arcs: the curve passes through the cell iff the cell's nearest point lies

@@ -75,10 +75,12 @@ def _experiment_names():
 
 # ---------------------------------------------------------------------------- commands
 def _simulate(args):
-    from ..io import write_dataset
+    from ..io import check_dataset_path, write_dataset
     from ..scenes import Scene
     from ..simulate import simulate
 
+    if args.output:
+        check_dataset_path(args.output, "-o/--output")
     scene = Scene.from_yaml(args.scene)
     ds = _start_errors(simulate, scene, args.position, args.velocity, args.spin,
                        max_collisions=args.max_collisions, max_time=args.max_time, stop_below=args.stop_below)
@@ -138,8 +140,9 @@ def _plot_window(scene, x, y):
 def _run_experiment(args):
     from .._validate import read_yaml
     from ..experiments import EXPERIMENTS
-    from ..io import write_dataset
+    from ..io import check_dataset_path, write_dataset
 
+    check_dataset_path(args.output, "-o/--output")
     cfg, where = read_yaml(args.config, "config")
     if not isinstance(cfg, dict) or "experiment" not in cfg or set(cfg) - {"experiment", "parameters"}:
         raise ValueError(f"{where}: expected a mapping with keys 'experiment' and (optionally) 'parameters', "

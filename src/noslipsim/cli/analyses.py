@@ -82,6 +82,13 @@ def add_commands(sub, debug):
 
 
 # ---------------------------------------------------------------------------- shared
+def check_dataset_path(path, field):
+    """:func:`noslipsim.io.check_dataset_path`, imported when a command runs (xarray is slow to import)."""
+    from ..io import check_dataset_path as check
+
+    return check(path, field)
+
+
 def _positive_int(value, option):
     if value < 1:
         raise ValueError(f"{option}: must be >= 1, got {value}")
@@ -126,6 +133,7 @@ def portrait(args):
     from ..io import write_dataset
     from ..scenes import Scene
 
+    check_dataset_path(args.output, "-o/--output")
     scene = Scene.from_yaml(args.scene)
     n = _positive_int(args.orbits, "--orbits")
     m = _positive_int(args.collisions, "-n/--collisions")
@@ -160,6 +168,7 @@ def ensemble(args):
     from ..io import write_dataset
     from ..scenes import Scene
 
+    check_dataset_path(args.output, "-o/--output")
     scene = Scene.from_yaml(args.scene)
     n = _positive_int(args.orbits, "--orbits")
     if not (math.isfinite(args.speed) and args.speed > 0):
@@ -198,6 +207,7 @@ def periodic(args):
     from ..scenes import Scene
     from ..simulate import simulate
 
+    check_dataset_path(args.output, "-o/--output")
     scene = Scene.from_yaml(args.scene)
     period = _positive_int(args.period, "--period")
     periods = _positive_int(args.periods, "--periods")
@@ -240,6 +250,7 @@ def lyapunov(args):
     from ..io import write_dataset
     from ..scenes import Scene
 
+    check_dataset_path(args.output, "-o/--output")
     scene = Scene.from_yaml(args.scene)
     n = args.max_collisions if args.max_collisions > 0 else None
     run = _start_errors(lyapunov_run, scene, args.position, args.velocity, args.spin, max_time=args.max_time,

@@ -8,6 +8,7 @@ import xarray as xr
 
 from .. import initial
 from .._metadata import annotate
+from .._validate import count
 from ..ensemble import simulate_many
 from ..scenes import Scene
 from ..simulate import simulate
@@ -89,8 +90,9 @@ def phase_portrait(scene: Scene, n_orbits=20, n_collisions=1000, *, seed=0, elem
     :func:`noslipsim.initial.boundary_states`) or, by default, from states
     uniform on the boundary of the chosen elements in the reduced phase space.
     """
+    count(n_collisions, "n_collisions")
     if initial_states is None:
-        initial_states = initial.boundary_states(scene, n_orbits, seed, elements)
+        initial_states = initial.boundary_states(scene, count(n_orbits, "n_orbits"), seed, elements)
     ds = simulate_many(scene, initial_states["positions"], initial_states["velocities"],
                        initial_states.get("spins"), max_collisions=n_collisions, record="portrait",
                        elements=elements, start_elements=initial_states.get("start_elements"),
