@@ -137,12 +137,7 @@ def galton_distribution(n_particles=100_000, *, laws=("specular", "no-slip"), ga
     else:
         if isinstance(top_row, bool) or not isinstance(top_row, (int, np.integer)):
             raise TypeError(f"top_row: expected an integer row index or None, got {top_row!r}")
-        top_height = int(top_row) * spacing * math.sqrt(3.0) / 2.0
-        if not start[1] - spread > top_height + radius:
-            raise ValueError(f"start: a bounded board releases above its top row: every release point must lie "
-                             f"above the top pegs (y > {top_height + radius:g}), got y = {start[1]:g} "
-                             f"- spread {spread:g}")
-        level = top_height - depth
+        level = int(top_row) * spacing * math.sqrt(3.0) / 2.0 - depth
     if out is None or spread > 0.0 or speed != 1.0:
         vel = initial.unit_velocities(n_particles, seed) * speed
         pos = np.tile(np.asarray(start, float), (n_particles, 1))
@@ -283,7 +278,8 @@ def galton_evidence(cases, n_particles=1000, *, laws=("no-slip",), gamma=1 / mat
     -------
     xarray.Dataset
         Dims ``(case, law, particle)``: ``t_terminal``, ``x_terminal``,
-        ``n_collisions`` and ``share_not_arrived`` (by ``max_time``); per case
+        ``x_end``, ``y_end`` (from each case's ``start``), ``n_collisions``
+        and ``share_not_arrived`` (by ``max_time``); per case
         the coordinates ``group``, ``board`` (``'bounded'`` or
         ``'unbounded'``), ``start_x``, ``start_y``, ``spread``, ``speed``,
         ``radius`` and ``rows``.
@@ -301,7 +297,7 @@ def galton_evidence(cases, n_particles=1000, *, laws=("no-slip",), gamma=1 / mat
                              f"and any of {EVIDENCE_KEYS}")
         settings = {**board, **{k: v for k, v in case.items() if k in EVIDENCE_KEYS}}
         ds = galton_distribution(n_particles, laws=laws, gamma=gamma, seed=seed, max_time=max_time, **settings)
-        parts.append(ds[["t_terminal", "x_terminal", "n_collisions", "share_not_arrived"]])
+        parts.append(ds[["t_terminal", "x_terminal", "x_end", "y_end", "n_collisions", "share_not_arrived"]])
         a = ds.attrs
         rows_of.append(dict(group=str(case.get("group", "")), board=a["board"], start_x=a["start"][0],
                             start_y=a["start"][1], spread=a["spread"], speed=a["speed"], radius=a["radius"],
