@@ -12,6 +12,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+import matplotlib.ticker
 import numpy as np
 
 from noslipsim import plot
@@ -59,14 +60,14 @@ for ax, i in zip(np.atleast_1d(axes), range(ds.sizes["law"])):
     k, ke = excess_kurtosis(xs)
     low.plot(z[counts > 0], dens[counts > 0] * std, "o" if law == "specular" else "s", markersize=3,
              color=plot.law_color(law), markerfacecolor="none" if law == "specular" else plot.law_color(law),
-             alpha=0.9, label=f"{name}: excess kurtosis {k:.2f} ± {ke:.2f}", zorder=3 if law == "specular" else 2)
+             alpha=0.9, label=f"{name}: $\\kappa$ = {k:.2f} ± {ke:.2f}", zorder=3 if law == "specular" else 2)
 gaps = snakemake.params.histogram["bin_gaps"]
 np.atleast_1d(axes)[0].set_ylabel(f"particles per bin ({gaps} gap{'s' * (gaps > 1)})")
 zz = np.linspace(-SPAN, SPAN, 300)
 low.plot(zz, np.exp(-0.5 * zz**2) / np.sqrt(2 * np.pi), color="k", linewidth=0.8, label="normal of the same $\\sigma$")
 low.set(yscale="log", xlabel="displacement / $\\sigma$ (from the mean)", ylabel="density × $\\sigma$",
-        xlim=(-SPAN, SPAN), ylim=(0.5 / len(xs_all), 1.0), title="the tails, log scale")
-low.legend(fontsize=6, loc="lower center")
+        xlim=(-SPAN, SPAN), ylim=(0.5 / len(xs_all), 1.0), title="the tails, log scale ($\\kappa$: excess kurtosis)")
+low.legend(fontsize=5.5, loc="upper right")
 
 # excess kurtosis against the number of rows (arrived particles), both laws
 for j, law in enumerate(("specular", "no-slip")):
@@ -82,6 +83,7 @@ for j, law in enumerate(("specular", "no-slip")):
                   label=law if law == "specular" else f"no-slip, $\\gamma$ = {float(rows.gamma.sel(law=law)):.3g}")
 kurt.axhline(0.0, color="k", linewidth=0.6)
 kurt.set_xscale("log")
+kurt.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
 kurt.set_xticks(rows.rows.values, [str(int(r)) for r in rows.rows.values])
 kurt.set(xlabel="rows to the terminal depth", ylabel="excess kurtosis",
          title=f"{rows.attrs['n_particles']:,} particles per point")

@@ -35,7 +35,7 @@ left.set(xscale="log", yscale="log", xlabel="time", ylabel="share not arrived",
          title=f"{arrivals.attrs['n_particles']:,} particles per case")
 left.legend(fontsize=7, loc="lower left")
 
-step = 0.004 * float(np.ptp(at.radius))  # the laws side by side: specular points never hide under no-slip ones
+step = 0.004 * float(np.ptp(at.radius.values))  # the laws side by side: specular points never hide under no-slip ones
 for law, shift, marker, z in (("no-slip", step, "s", 2), ("specular", -step, "o", 3)):
     sel = at.sel(law=law)
     for k, (fill, when) in enumerate((("none", "T"), (None, f"{sweep.attrs['time_factor']:g} T"))):

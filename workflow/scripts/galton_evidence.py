@@ -2,7 +2,7 @@
 
 Cases (all to time_factor x T, both laws): ``board`` (the config's board and release) and ``gap``
 (the unbounded lattice, one drop point in the gap between two pegs: the reading before the bounded
-board); the bounded board with another release point, spread or speed; both drops with another peg
+board) and ``gap-bounded`` (that drop on the bounded board: its top row's gap); the bounded board with another release point, spread or speed; both drops with another peg
 radius or number of rows.
 """
 import sys
@@ -16,7 +16,10 @@ from noslipsim.experiments import galton_evidence
 board, run = dict(snakemake.params.board), snakemake.params.run
 termination = board.pop("max_time")
 gap = dict(run["gap_drop"])
-cases = [{"name": "board", "group": "drop"}, {"name": "gap", "group": "drop", **gap}]
+# the drops: the bounded board as configured, the gap drop on the unbounded lattice, and the gap drop's
+# release on the bounded board (the drop point alone, without the lattice above it)
+cases = [{"name": "board", "group": "drop"}, {"name": "gap", "group": "drop", **gap},
+         {"name": "gap-bounded", "group": "drop", **{k: v for k, v in gap.items() if k != "top_row"}}]
 cases += [{"name": f"point-{x:g},{y:g}", "group": "point", "start": [x, y]} for x, y in run["points"]]
 cases += [{"name": f"spread-{s:g}", "group": "spread", "spread": s} for s in run["spreads"]]
 cases += [{"name": f"speed-{v:g}", "group": "speed", "speed": v} for v in run["speeds"]]

@@ -22,11 +22,12 @@ def not_arrived(case, law, by):
 
 numbers = {}
 for drop, what in (("gap", "the unbounded lattice, dropped in the gap between two pegs (the reading before)"),
+                   ("gap-bounded", "the same drop in the gap between two pegs of the bounded board's top row"),
                    ("board", "the bounded board, released above its top row (the configuration of Figures 2, 3, S1)")):
     for law in ("no-slip", "specular"):
         for label, by in when.items():
             p, e = not_arrived(drop, law, by)
-            numbers[f"{drop}_{law.replace('-', '')}_not_arrived_{label}"] = dict(
+            numbers[f"{drop.replace('-', '_')}_{law.replace('-', '')}_not_arrived_{label}"] = dict(
                 description=f"{law}{f' (γ = {gamma:.3g})' if law == 'no-slip' else ''} share not arrived by "
                             f"{label.replace('T', ' T') if label != 'T' else 'T'} = {by:g}, {what}",
                 value=p, stderr=e, format=".1%",
@@ -40,7 +41,7 @@ numbers["gap_held_near_drop_point"] = dict(
     value=float(near[left].mean()) if left.any() else 0.0, format=".1%",
     note="held in the gap where they start, bouncing between two pegs as in a no-slip channel")
 for group in ("point", "spread", "speed"):
-    sel = [c for c in ev.case.values if str(ev.group.sel(case=c).values) == group] + ["board"]
+    sel = [str(c) for c in ev.case.values if str(ev.group.sel(case=c).values) == group] + ["board"]
     for label, by in when.items():
         shares = {c: not_arrived(c, "no-slip", by)[0] for c in sel}
         def name(c):
@@ -55,7 +56,8 @@ for group in ("point", "spread", "speed"):
             note=f"{n:,} particles per case; the other release settings as configured")
 for group, fmt in (("radius", "{:g}"), ("rows", "{:d}")):
     for drop in ("board", "gap"):
-        sel = [c for c in ev.case.values if str(ev.group.sel(case=c).values) == group and str(c).startswith(drop)]
+        sel = [str(c) for c in ev.case.values
+               if str(ev.group.sel(case=c).values) == group and str(c).startswith(drop + "-")]
         sel.append(drop)
         sel.sort(key=lambda c: float(ev[group].sel(case=c)))
         for label, by in when.items():
