@@ -89,7 +89,8 @@ def check_galton_evidence(ds):
     if "gap" in ds.case.values:  # energy keeps a particle dropped in a top gap below the row above: the same orbits
         assert str(ds.board.sel(case="gap").values) == "unbounded"
         assert str(ds.board.sel(case="gap-bounded").values) == "bounded"
-        np.testing.assert_array_equal(ds.t_terminal.sel(case="gap").values, ds.t_terminal.sel(case="gap-bounded").values)
+        np.testing.assert_array_equal(ds.t_terminal.sel(case="gap").values,
+                                      ds.t_terminal.sel(case="gap-bounded").values)
 
 
 def _row(ds, role):

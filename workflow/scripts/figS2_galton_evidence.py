@@ -62,7 +62,7 @@ groups = [("point", lambda k: f"({float(k.start_x):g}, {float(k.start_y):g})"),
           ("spread", lambda k: f"{float(k.spread):g}"), ("speed", lambda k: f"{float(k.speed):g}")]
 ticks, labels, x = [], [], 0
 for g, (group, name) in enumerate(groups):
-    sel = cases_of(group) + ["board"]
+    sel = [*cases_of(group), "board"]
     key = ((lambda k: (float(ev.start_y.sel(case=k)), float(ev.start_x.sel(case=k)))) if group == "point"
            else (lambda k, group=group: float(ev[group].sel(case=k))))
     for case in sorted(sel, key=key):

@@ -1,9 +1,9 @@
 """Dataset of Figure S2: the not-arrived share of the gap drop and of the bounded board, one setting changed at a time.
 
-Cases (all to time_factor x T, both laws): ``board`` (the config's board and release) and ``gap``
+Cases (all to time_factor x T, both laws): ``board`` (the config's board and release), ``gap``
 (the unbounded lattice, one drop point in the gap between two pegs: the reading before the bounded
-board) and ``gap-bounded`` (that drop on the bounded board: its top row's gap); the bounded board with another release point, spread or speed; both drops with another peg
-radius or number of rows.
+board) and ``gap-bounded`` (that drop on the bounded board: its top row's gap); the bounded board
+with another release point, spread or speed; both drops with another peg radius or number of rows.
 """
 import sys
 

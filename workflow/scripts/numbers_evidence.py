@@ -37,33 +37,43 @@ gap = ev.sel(case="gap", law="no-slip")
 left = np.isnan(gap.t_terminal.values)
 near = np.hypot(gap.x_end.values, gap.y_end.values) < ev.attrs["spacing"] / 2
 numbers["gap_held_near_drop_point"] = dict(
-    description=f"gap drop: no-slip particles not arrived by {factor:g} T that end within half a spacing of the drop point",
+    description=f"gap drop: no-slip particles not arrived by {factor:g} T that end within half a spacing of "
+                "the drop point",
     value=float(near[left].mean()) if left.any() else 0.0, format=".1%",
     note="held in the gap where they start, bouncing between two pegs as in a no-slip channel")
+
+
+def release_name(group, case):
+    k = ev.sel(case=case)
+    return {"point": f"({float(k.start_x):g}, {float(k.start_y):g})", "spread": f"{float(k.spread):g}",
+            "speed": f"{float(k.speed):g}"}[group]
+
+
+def release_key(group, case):
+    k = ev.sel(case=case)
+    return (float(k.start_y), float(k.start_x)) if group == "point" else (float(k[group]),)
+
+
 for group in ("point", "spread", "speed"):
-    sel = [str(c) for c in ev.case.values if str(ev.group.sel(case=c).values) == group] + ["board"]
+    sel = [*(str(c) for c in ev.case.values if str(ev.group.sel(case=c).values) == group), "board"]
+    order = sorted(sel, key=lambda c, group=group: release_key(group, c))
     for label, by in when.items():
-        shares = {c: not_arrived(c, "no-slip", by)[0] for c in sel}
-        def name(c):
-            k = ev.sel(case=c)
-            return {"point": f"({float(k.start_x):g}, {float(k.start_y):g})", "spread": f"{float(k.spread):g}",
-                    "speed": f"{float(k.speed):g}"}[group]
-        order = sorted(sel, key=lambda c: (float(ev.start_y.sel(case=c)), float(ev.start_x.sel(case=c)))
-                       if group == "point" else float(ev[group].sel(case=c)))
         numbers[f"board_noslip_not_arrived_{label}_against_{group}"] = dict(
-            description=f"bounded board, no-slip share not arrived by {label.replace('T', ' T')} against the release {group}",
-            value=", ".join(f"{name(c)}: {shares[c]:.0%}" for c in order),
+            description=f"bounded board, no-slip share not arrived by {label.replace('T', ' T')} against the "
+                        f"release {group}",
+            value=", ".join(f"{release_name(group, c)}: {not_arrived(c, 'no-slip', by)[0]:.0%}" for c in order),
             note=f"{n:,} particles per case; the other release settings as configured")
 for group, fmt in (("radius", "{:g}"), ("rows", "{:d}")):
+    what = "peg radius" if group == "radius" else "number of rows"
     for drop in ("board", "gap"):
         sel = [str(c) for c in ev.case.values
                if str(ev.group.sel(case=c).values) == group and str(c).startswith(drop + "-")]
         sel.append(drop)
-        sel.sort(key=lambda c: float(ev[group].sel(case=c)))
+        sel.sort(key=lambda c, group=group: float(ev[group].sel(case=c)))
         for label, by in when.items():
             numbers[f"{drop}_noslip_not_arrived_{label}_against_{group}"] = dict(
                 description=f"{'bounded board' if drop == 'board' else 'gap drop'}, no-slip share not arrived by "
-                            f"{label.replace('T', ' T')} against the {'peg radius' if group == 'radius' else 'number of rows'}",
+                            f"{label.replace('T', ' T')} against the {what}",
                 value=", ".join(f"{fmt.format(ev[group].sel(case=c).values.item())}: "
                                 f"{not_arrived(c, 'no-slip', by)[0]:.0%}" for c in sel),
                 note=f"{n:,} particles per case")
