@@ -67,7 +67,7 @@ zz = np.linspace(-SPAN, SPAN, 300)
 low.plot(zz, np.exp(-0.5 * zz**2) / np.sqrt(2 * np.pi), color="k", linewidth=0.8, label="normal of the same $\\sigma$")
 low.set(yscale="log", xlabel="displacement / $\\sigma$ (from the mean)", ylabel="density × $\\sigma$",
         xlim=(-SPAN, SPAN), ylim=(0.5 / len(xs_all), 1.0), title="the tails, log scale ($\\kappa$: excess kurtosis)")
-low.legend(fontsize=5.5, loc="upper right")
+low.legend(fontsize=5.5, loc="lower center")
 
 # excess kurtosis against the number of rows (arrived particles), both laws
 for j, law in enumerate(("specular", "no-slip")):
@@ -77,6 +77,12 @@ for j, law in enumerate(("specular", "no-slip")):
         ks.append(excess_kurtosis(v[np.isfinite(v)]))
     ks = np.array(ks)
     shift = 1.0 + 0.04 * (j - 0.5)  # the two laws side by side, not on top of each other
+    # only particles arrived by T count: where many have not, say how many did (the sample is the faster ones)
+    for r, (k, _), share in zip(rows.rows.values, ks, rows.share_not_arrived.sel(law=law).values):
+        if share > 0.05:
+            kurt.annotate(f"{1 - share:.0%}", (r * shift, k), textcoords="offset points",
+                          xytext=(-12 if law == "specular" else 4, 6 if law == "specular" else -10), fontsize=6,
+                          color=plot.law_color(law))
     kurt.errorbar(rows.rows.values * shift, ks[:, 0], yerr=ks[:, 1], marker="o" if law == "specular" else "s",
                   markersize=3.5, capsize=2, color=plot.law_color(law),
                   markerfacecolor="none" if law == "specular" else plot.law_color(law), linewidth=0.8,
@@ -85,7 +91,7 @@ kurt.axhline(0.0, color="k", linewidth=0.6)
 kurt.set_xscale("log")
 kurt.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
 kurt.set_xticks(rows.rows.values, [str(int(r)) for r in rows.rows.values])
-kurt.set(xlabel="rows to the terminal depth", ylabel="excess kurtosis",
-         title=f"{rows.attrs['n_particles']:,} particles per point")
+kurt.set(xlabel="rows to the terminal depth", ylabel="excess kurtosis of the arrived",
+         title=f"{rows.attrs['n_particles']:,} particles per point (% arrived by T)")
 kurt.legend(fontsize=7, loc="upper right")
 plot.save_figure(fig, snakemake.output.pdf)  # writes the .pdf and the .png beside it

@@ -52,8 +52,8 @@ for drop, (label, _, style) in drops.items():
 a.axvline(T, color="0.5", linewidth=0.6)
 a.text(T, 0.02, " T", color="0.4", va="bottom", fontsize=7, transform=a.get_xaxis_transform())
 if same:
-    a.text(0.98, 0.97, "gap drop on the bounded board:\nthe same arrival times", transform=a.transAxes,
-           ha="right", va="top", fontsize=6.5, color="0.3")
+    a.text(0.03, 0.58, "gap drop on the bounded board:\nthe same arrival times", transform=a.transAxes,
+           ha="left", va="top", fontsize=6.5, color="0.3")
 a.set(xscale="log", yscale="log", xlabel="time", ylabel="share not arrived", title="(a) the drop")
 a.legend(fontsize=6.5, loc="lower left")
 

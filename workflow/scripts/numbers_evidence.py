@@ -11,6 +11,7 @@ ev = xr.load_dataset(snakemake.input.evidence)
 T, factor, n = ev.attrs["termination_time"], ev.attrs["time_factor"], ev.attrs["n_particles"]
 gamma = float(ev.gamma.sel(law="no-slip"))
 when = {"T": T, f"{factor:g}T": factor * T}
+spoken = {"T": "T", f"{factor:g}T": f"{factor:g} T"}
 
 
 def not_arrived(case, law, by):
@@ -29,7 +30,7 @@ for drop, what in (("gap", "the unbounded lattice, dropped in the gap between tw
             p, e = not_arrived(drop, law, by)
             numbers[f"{drop.replace('-', '_')}_{law.replace('-', '')}_not_arrived_{label}"] = dict(
                 description=f"{law}{f' (γ = {gamma:.3g})' if law == 'no-slip' else ''} share not arrived by "
-                            f"{label.replace('T', ' T') if label != 'T' else 'T'} = {by:g}, {what}",
+                            f"{spoken[label]} = {by:g}, {what}",
                 value=p, stderr=e, format=".1%",
                 paper=("roughly 40 %" if law == "no-slip" else "almost none") if label == "T" else "",
                 note=f"{n:,} particles")
@@ -59,7 +60,7 @@ for group in ("point", "spread", "speed"):
     order = sorted(sel, key=lambda c, group=group: release_key(group, c))
     for label, by in when.items():
         numbers[f"board_noslip_not_arrived_{label}_against_{group}"] = dict(
-            description=f"bounded board, no-slip share not arrived by {label.replace('T', ' T')} against the "
+            description=f"bounded board, no-slip share not arrived by {spoken[label]} against the "
                         f"release {group}",
             value=", ".join(f"{release_name(group, c)}: {not_arrived(c, 'no-slip', by)[0]:.0%}" for c in order),
             note=f"{n:,} particles per case; the other release settings as configured")
@@ -73,7 +74,7 @@ for group, fmt in (("radius", "{:g}"), ("rows", "{:d}")):
         for label, by in when.items():
             numbers[f"{drop}_noslip_not_arrived_{label}_against_{group}"] = dict(
                 description=f"{'bounded board' if drop == 'board' else 'gap drop'}, no-slip share not arrived by "
-                            f"{label.replace('T', ' T')} against the {what}",
+                            f"{spoken[label]} against the {what}",
                 value=", ".join(f"{fmt.format(ev[group].sel(case=c).values.item())}: "
                                 f"{not_arrived(c, 'no-slip', by)[0]:.0%}" for c in sel),
                 note=f"{n:,} particles per case")

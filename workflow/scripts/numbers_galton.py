@@ -73,8 +73,10 @@ for law, g in (("no-slip", gamma), ("specular", None)):
         note=f"a subsample of {m:,} particles")
 curve = arrival_curve(long_run)
 trapped = curve.isel(law=next(i for i, g in enumerate(curve.gamma.values) if np.isclose(g, gamma)))
-# the tail estimate only where it extrapolates (late arrivals decaying); otherwise it would repeat the 10 T share
-if np.isfinite(float(trapped.trapped_share)) and int(trapped.arrivals_late) > 0:
+# the tail estimate only where it extrapolates (late arrivals decaying, particles left to extrapolate to);
+# otherwise it would only repeat the 10 T share
+if (np.isfinite(float(trapped.trapped_share)) and int(trapped.arrivals_late) > 0
+        and float(trapped.share_not_arrived_final) > 0):
     numbers["trapped_share_noslip"] = dict(
         description=f"no-slip (γ = {gamma:.3g}) share that never arrives, extrapolated from the arrival tail",
         value=float(trapped.trapped_share), stderr=float(trapped.trapped_share_stderr), format=".2%",
