@@ -164,3 +164,13 @@ def test_bad_top_is_refused_by_name():
     table = kernel_table(tables.galton_board(top_row=0))
     with pytest.raises(ValueError, match="ceilings"):
         run_orbits(table, [[0.0, 3.0, 0.0, 0.0, 0.0]], max_collisions=1)
+
+
+def test_bounded_lattice_without_force_runs_the_general_loop_and_lets_a_particle_leave_upwards():
+    disks = ns.Scene((Circle((0.0, 0.0), 0.3, "outside"),), law="no-slip", lattice={"a1": [1.0, 0.0], "a2": [0.0, 1.0]},
+                     top=0.5)
+    assert not kernel_table(disks).disk_lattice  # the lean disk loop knows no top
+    up = ns.simulate(disks, (0.5, 2.0), (0.1, 1.0), 0.0, max_collisions=5)
+    assert up.sizes["collision"] == 0 and up.attrs["stop_reason"] == "escape"
+    down = ns.simulate(disks, (0.0, 3.0), (0.0, -1.0), 0.0, max_collisions=1)
+    assert down.y.values[0] == pytest.approx(0.3, abs=1e-12) and down.t.values[0] == pytest.approx(2.7, abs=1e-12)
