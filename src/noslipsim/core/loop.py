@@ -85,6 +85,19 @@ def _contact(kinds, params, copies, A, lattice, x, y, vx, vy, ax, ay, cur_e, cur
     return -1, 0, 0
 
 
+@jit
+def _above_top(params, y, top):
+    """True if height ``y`` lies above every copy of a bounded lattice whose top is ``top`` (circles only).
+
+    With no downward velocity or force the particle then never meets a copy again (an escape),
+    which the cell walk would only find after ``MAX_CELLS_PER_FLIGHT`` empty cells.
+    """
+    reach = 0.0
+    for e in range(params.shape[0]):
+        reach = max(reach, params[e, 2])
+    return y > top + reach
+
+
 def kernel_flags(has_force, noslip, lattice, mode, disks=False, walls=False, thermostat=False):
     """The variant key for a scene: what its kernel needs, fixed at compile time."""
     return bool(has_force), bool(noslip), bool(lattice), int(mode), bool(disks), bool(walls), bool(thermostat)
@@ -255,9 +268,12 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                         escape = e < 0
                 elif lattice:
                     limit = min(remaining, t_level)
-                    t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay,
-                                                        has_force, cur_e, cur_o1, cur_o2, limit, extent_tol,
-                                                        MAX_CELLS_PER_FLIGHT, ceiling - oy)
+                    if ceiling < INF and vy >= 0.0 and ay >= 0.0 and _above_top(params, y, ceiling - oy):
+                        t_hit, e, o1, o2, status = INF, -1, 0, 0, 2  # rising above a bounded lattice for good
+                    else:
+                        t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay,
+                                                            has_force, cur_e, cur_o1, cur_o2, limit, extent_tol,
+                                                            MAX_CELLS_PER_FLIGHT, ceiling - oy)
                     escape = status == 2 or (status == 1 and limit == INF)
                 else:
                     t_hit, e, o1, o2 = hit_in_cell(kinds, params, copies, A, 0, 0, x, y, vx, vy, ax, ay,
