@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from noslipsim.analysis import arrival_curve
+from noslipsim.analysis import arrival_curve, excess_kurtosis
 from noslipsim.experiments import galton_distribution
 
 
@@ -147,3 +147,27 @@ def test_bad_arguments_are_refused():
         arrival_curve(ds, n_times=1)
     with pytest.raises(ValueError, match="tail_span"):
         arrival_curve(ds, tail_span=1.0)
+
+
+@pytest.mark.parametrize("draw, kappa", [("normal", 0.0), ("laplace", 3.0), ("uniform", -1.2)])
+def test_excess_kurtosis_of_known_laws_within_its_bootstrap_error(draw, kappa):
+    rng = np.random.default_rng(11)
+    x = getattr(rng, draw)(size=40_000)
+    k, err = excess_kurtosis(x)
+    assert 0 < err < 0.2
+    assert abs(k - kappa) < 4 * err
+    # the normal's error matches the textbook sqrt(24 / n) within a factor 1.5
+    if draw == "normal":
+        assert err == pytest.approx(math.sqrt(24 / x.size), rel=0.5)
+    assert excess_kurtosis(x) == (k, err)  # a fixed seed: the same number every run
+
+
+def test_excess_kurtosis_refuses_what_has_none():
+    with pytest.raises(ValueError, match="at least 4 finite"):
+        excess_kurtosis([1.0, 2.0, 3.0])
+    with pytest.raises(ValueError, match="not finite"):
+        excess_kurtosis([1.0, 2.0, 3.0, np.nan, 5.0])
+    with pytest.raises(ValueError, match="all equal"):
+        excess_kurtosis(np.ones(10))
+    with pytest.raises(ValueError, match="resamples"):
+        excess_kurtosis(np.arange(10.0), resamples=1)

@@ -7,6 +7,7 @@ import pytest
 
 import noslipsim as ns
 from noslipsim import ensemble, initial, plot, tables
+from noslipsim import experiments as ex
 from noslipsim.experiments import galton_distribution, galton_orbits, galton_radius_sweep, orbit_set
 
 SMALL = dict(rows=3, max_time=80.0, radius=0.8, seed=4, progress=False)
@@ -138,3 +139,47 @@ def test_num_workers_sets_the_thread_pool(monkeypatch):
     assert one.identical(two)
     with pytest.raises(ValueError, match="num_workers"):
         ns.simulate_many(board, pos, vel, num_workers=0)
+
+
+def test_bounded_board_release_and_the_gap_drop_that_never_sees_the_rows_above():
+    kw = dict(rows=2, max_time=60.0, radius=0.89, seed=3, progress=False)
+    board = ex.galton_distribution(40, top_row=0, start=(0.0, 2.0), spread=0.5, speed=0.7, **kw)
+    assert board.attrs["board"] == "bounded" and board.attrs["top_row"] == 0
+    assert board.attrs["terminal_level"] == pytest.approx(-2 * math.sqrt(3))
+    arrived = board.arrived.values.astype(bool)
+    assert arrived.any()
+    # release offsets within the spread, the same for both laws (one seed), never above the top row's level
+    t0 = board.t_terminal.values
+    assert np.isfinite(t0[arrived]).all()
+    # the gap drop: unit speed from y = 0 rises at most to 0.5, below the next row's pegs (1.73 - 0.89)
+    gap = ex.galton_distribution(40, start=(1.0, 0.0), **kw)
+    gap_bounded = ex.galton_distribution(40, start=(1.0, 0.0), top_row=0, **kw)
+    assert gap.attrs["board"] == "unbounded" and gap_bounded.attrs["board"] == "bounded"
+    np.testing.assert_array_equal(gap.t_terminal.values, gap_bounded.t_terminal.values)
+    np.testing.assert_array_equal(gap.x_end.values, gap_bounded.x_end.values)
+    # ... but thrown hard enough to reach the row above, the two boards part
+    fast = dict(kw, max_time=30.0)
+    a = ex.galton_distribution(40, start=(1.0, 0.0), speed=3.0, **fast)
+    b = ex.galton_distribution(40, start=(1.0, 0.0), speed=3.0, top_row=0, **fast)
+    assert not np.array_equal(a.x_end.values, b.x_end.values)
+    with pytest.raises(ValueError, match="spread"):
+        ex.galton_distribution(4, spread=-1.0, **kw)
+    with pytest.raises(ValueError, match="speed"):
+        ex.galton_distribution(4, speed=math.inf, **kw)
+    with pytest.raises(TypeError, match="top_row"):
+        ex.galton_distribution(4, top_row=0.5, **kw)
+
+
+def test_galton_evidence_stacks_cases_and_refuses_bad_ones():
+    cases = [{"name": "board", "group": "drop", "top_row": 0, "start": (0.0, 2.0)},
+             {"name": "wide", "group": "radius", "top_row": 0, "start": (0.0, 2.0), "radius": 0.5}]
+    ev = ex.galton_evidence(cases, 6, rows=1, max_time=40.0, radius=0.8, seed=1, progress=False)
+    assert list(ev.case.values) == ["board", "wide"] and list(ev.radius.values) == [0.8, 0.5]
+    assert list(ev.group.values) == ["drop", "radius"] and set(ev.board.values) == {"bounded"}
+    assert ev.t_terminal.dims == ("case", "law", "particle")
+    with pytest.raises(ValueError, match="unique"):
+        ex.galton_evidence([cases[0], cases[0]], 2)
+    with pytest.raises(ValueError, match="unknown keys"):
+        ex.galton_evidence([{"name": "x", "gravity": 2.0}], 2)
+    with pytest.raises(ValueError, match="at least one case"):
+        ex.galton_evidence([], 2)

@@ -87,6 +87,10 @@ EXPERIMENTS = {
     "galton_distribution": lambda: ex.galton_distribution(4, gamma=(G, 1.0), rows=2, max_time=30.0, **TINY),
     "galton_radius_sweep": lambda: ex.galton_radius_sweep(3, radii=(0.5, 0.6), rows=2, max_time=30.0),
     "galton_orbits": lambda: ex.galton_orbits(rows=2, max_collisions=20),
+    "galton_evidence": lambda: ex.galton_evidence(
+        [{"name": "board", "group": "drop", "top_row": 0, "start": (0.0, 2.0), "spread": 0.5},
+         {"name": "gap", "group": "drop", "start": (1.0, 0.0)}], 3, laws=("specular", "no-slip"), rows=2,
+        max_time=30.0, radius=0.8, **TINY),
     "orbit_set": lambda: ex.orbit_set([BOX, BOX], [(0.3, 0.5), (0.4, 0.6)], [(1.0, 0.3), (0.2, 1.0)],
                                       max_collisions=5),
     "phase_portrait": lambda: ex.phase_portrait(BOX, n_orbits=3, n_collisions=10, **TINY),

@@ -84,6 +84,14 @@ VARIABLES = {
                           "1"),
     "radius": ("disk radius (Galton pegs; Sinai disks on the unit torus; the two disks of a stability grid, "
                "centres 2 apart)", "1"),
+    "group": ("the setting a Galton evidence case varies (drop, point, spread, speed, radius, rows)", "1"),
+    "board": ("Galton board: 'bounded' (a top row with nothing above it) or 'unbounded' (the lattice continues up)",
+              "1"),
+    "start_x": ("x of the release point (the centre of the release spread)", "1"),
+    "start_y": ("y of the release point (the centre of the release spread)", "1"),
+    "spread": ("half-width of the square of release points around the release point", "1"),
+    "speed": ("release speed (uniformly random direction)", "1"),
+    "rows": ("peg rows to the terminal depth", "1"),
     # ------------------------------------------------ experiments.portraits
     "case": ("the experiment case of the entry (its name, label or index)", "1"),
     "table": ("name of the table", "1"),

@@ -125,15 +125,15 @@ def check_starts(scene: Scene, positions, velocities, spins, start_elements=None
 
 
 # ---------------------------------------------------------------------------- one chunk
-def _run_chunk(table, starts, on, levels, max_collisions, max_time, mode, n_rec, n_cols, mask):
+def _run_chunk(table, starts, on, levels, ceilings, max_collisions, max_time, mode, n_rec, n_cols, mask):
     """One compiled call over a block of orbits: their records and summaries."""
     rec = np.full((len(starts), n_rec, n_cols), np.nan)
     final = run_orbits(table, starts, max_collisions=max_collisions, max_time=max_time, levels=levels,
-                       start_elements=on, mode=mode, rec=rec, mask=mask)
+                       start_elements=on, mode=mode, rec=rec, mask=mask, ceilings=ceilings)
     return rec, final
 
 
-def _run_threads(table, starts, on, levels, tail, threads):
+def _run_threads(table, starts, on, levels, ceilings, tail, threads):
     """The orbits in blocks run by a pool of threads (the kernels release the GIL); no dask.
 
     Four blocks per thread, so that a thread whose orbits end early takes another block."""
@@ -144,15 +144,16 @@ def _run_threads(table, starts, on, levels, tail, threads):
     size = math.ceil(n / (4 * threads)) if n else 1
     blocks = [slice(i, i + size) for i in range(0, n, size)] or [slice(0, 0)]
     with ThreadPoolExecutor(threads) as pool:
-        parts = list(pool.map(lambda b: _run_chunk(table, starts[b], on[b], levels[b], *tail), blocks))
+        parts = list(pool.map(lambda b: _run_chunk(table, starts[b], on[b], levels[b], ceilings[b], *tail),
+                              blocks))
     return np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
 
 
-def _chunk_to_file(run, starts, on, levels, cells, origins, folder, start, stop, inputs):
+def _chunk_to_file(run, starts, on, levels, ceilings, cells, origins, folder, start, stop, inputs):
     """One chunk computed, turned into its dataset (orbits ``start..stop-1``) and written to ``folder``.
 
     Runs on a worker: ``folder`` must be reachable there (a shared file system on a cluster)."""
-    rec, final = _run_chunk(run["table"], starts, on, levels, *run["tail"])
+    rec, final = _run_chunk(run["table"], starts, on, levels, ceilings, *run["tail"])
     _to_user(run["form"], run["record"], rec, final, origins, cells, run["level"])
     ds = _ensemble_dataset(run["scene"], run["record"], rec, final, run["limits"], first=start)
     write_chunk(ds, folder, start, stop, inputs)
@@ -272,15 +273,16 @@ def simulate_many(scene: Scene, positions: ArrayLike, velocities: ArrayLike, spi
     q, v, w, on = check_starts(scene, positions, velocities, spins, start_elements)
     _check_level(q, level, stop_below)
     n = len(q)
-    cells, origins, starts, levels = _kernel_inputs(form, q, v, w, level)
+    cells, origins, starts, levels, ceilings = _kernel_inputs(form, q, v, w, level)
     table, tail = run["table"], run["tail"]
     if scheduler == "numba" or n == 0:
-        rec, final = _run_threads(table, starts, on, levels, tail, num_workers or os.cpu_count() or 1)
+        rec, final = _run_threads(table, starts, on, levels, ceilings, tail, num_workers or os.cpu_count() or 1)
     else:
         size = max(1, math.ceil(n / (4 * (os.cpu_count() or 1)))) if chunk_size is None else chunk_size
         bounds = [(i, min(i + size, n)) for i in range(0, n, size)]
         parts = {}
-        run_tasks(_run_chunk, (((i, j), (table, starts[i:j], on[i:j], levels[i:j], *tail)) for i, j in bounds),
+        run_tasks(_run_chunk, (((i, j), (table, starts[i:j], on[i:j], levels[i:j], ceilings[i:j], *tail))
+                                for i, j in bounds),
                   parts.__setitem__, scheduler=scheduler, num_workers=num_workers, progress=progress,
                   total=len(bounds))
         rec = np.concatenate([parts[b][0] for b in bounds])
@@ -295,11 +297,15 @@ def _check_level(q, level, stop_below, first=0):
 
 
 def _kernel_inputs(form, q, v, w, level):
-    """Cells, origins, kernel starts ``(x, y, vx, vy, w)`` relative to the canonical cells, and levels."""
+    """Cells, origins, kernel starts ``(x, y, vx, vy, w)`` relative to the canonical cells, levels and ceilings.
+
+    ``ceilings``: a bounded lattice's top (``Scene.top``) relative to each start cell (``inf`` for none)."""
     cells, origins, rel = form.kernel_starts(q)
     starts = np.ascontiguousarray(np.c_[rel, v, w])
     levels = np.full(len(q), form.user_level(level)) - origins[:, 1]
-    return cells, origins, starts, levels
+    top = form.scene.top
+    ceilings = np.full(len(q), math.inf) if top is None else top - origins[:, 1]
+    return cells, origins, starts, levels, ceilings
 
 
 def _blocks(value, n, field, tail=()):
@@ -346,10 +352,11 @@ def _simulate_to_folder(run, positions, velocities, spins, start_elements, out, 
             except ValueError as err:
                 raise ValueError(f"orbits {i}-{j - 1}: {err}") from None
             _check_level(q, run["level"], run["limits"]["stop_below"], first=i)
-            cells, origins, starts, levels = _kernel_inputs(run["form"], q, v, w, run["level"])
-            inputs = digest(starts, on, levels)
+            cells, origins, starts, levels, ceilings = _kernel_inputs(run["form"], q, v, w, run["level"])
+            inputs = digest(starts, on, levels) if run["form"].scene.top is None else digest(starts, on, levels,
+                                                                                            ceilings)
             if not is_done(folder, i, j, inputs):
-                yield (i, j), (run, starts, on, levels, cells, origins, folder, i, j, inputs)
+                yield (i, j), (run, starts, on, levels, ceilings, cells, origins, folder, i, j, inputs)
 
     run_tasks(_chunk_to_file, jobs(), lambda key, result: None, total=len(bounds), done=present, **how)
     return open_chunks(folder, bounds, "orbit")

@@ -8,6 +8,7 @@ A scene is the public way to define a billiard (docs/scenes.md)::
     thermostat: isokinetic   # optional: fly the force with the Gaussian isokinetic thermostat
     elements: [...]          # see noslipsim.elements
     lattice: {a1: [1, 0], a2: [0, 1]}   # optional: periodic repetition
+    top: 0.8660254037844386  # optional, with a lattice of circles: no copies above this height
 
 The table is the set of points on the table side of every line and full
 circle and of the nearest segment or arc (for a closed polygon this is its
@@ -34,7 +35,7 @@ from .core.laws import noslip_coefficients
 from .elements import Arc, Circle, Line, Segment, element_from_dict
 
 LAWS = {"no-slip": layout.NOSLIP, "noslip": layout.NOSLIP, "specular": layout.SPECULAR}
-_SCENE_KEYS = {"law", "gamma", "force", "thermostat", "elements", "lattice"}
+_SCENE_KEYS = {"law", "gamma", "force", "thermostat", "elements", "lattice", "top"}
 #: Thermostats a scene may fly its force with (``None``: none, free fall).
 THERMOSTATS = ("isokinetic",)
 
@@ -197,6 +198,13 @@ class Scene:
         (the driven, thermostatted Lorentz gas; docs/scenes.md).
     lattice : dict or None
         ``{'a1': [..], 'a2': [..]}`` to repeat the elements periodically.
+    top : float or None
+        A bounded lattice: no element copy whose centre lies above the height
+        ``top`` (a Galton board's top row with nothing above it; a particle
+        released above it falls onto it).  Only with a lattice of circle
+        scatterers, and not with the thermostat.  Put it between two rows: a
+        centre at exactly ``top`` is kept, and a rewritten (canonical) scene
+        rounds differently.  ``None``: the lattice continues everywhere.
     """
 
     elements: tuple
@@ -205,6 +213,7 @@ class Scene:
     force: tuple = (0.0, 0.0)
     lattice: dict | None = field(default=None)
     thermostat: str | None = None
+    top: float | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "law", _law_name(self.law))
@@ -231,7 +240,29 @@ class Scene:
             for i, e in enumerate(self.elements):
                 if isinstance(e, Line):
                     raise ValueError(f"elements[{i}]: infinite lines cannot be repeated on a lattice")
+        if self.top is not None:
+            self._check_top()
         _check_magnitudes(self)
+
+    def _check_top(self):
+        """Validate ``top`` (a bounded lattice) and store it as a float; errors name the problem."""
+        if isinstance(self.top, bool) or not isinstance(self.top, (int, float, np.floating, np.integer)):
+            raise TypeError(f"top: expected a number (a height), got {type(self.top).__name__}")
+        top = float(self.top)
+        if not math.isfinite(top):
+            raise ValueError(f"top: must be finite, got {top} (leave it out for an unbounded lattice)")
+        if abs(top) > MAX_MAGNITUDE:
+            raise ValueError(f"top: {top:g} lies outside the range of validity (|top| <= {MAX_MAGNITUDE:g}, "
+                             "docs/conventions.md)")
+        if self.lattice is None:
+            raise ValueError("top: only a lattice has a top row; this scene has no lattice")
+        for i, e in enumerate(self.elements):
+            if not (isinstance(e, Circle) and e.side == "outside"):
+                raise ValueError(f"top: a bounded lattice needs circle scatterers (side outside) only; "
+                                 f"elements[{i}] is a {e.type_name}")
+        if self.thermostat is not None:
+            raise ValueError("top: a bounded lattice is not supported with the isokinetic thermostat")
+        object.__setattr__(self, "top", top)
 
     # ---------------------------------------------------------------- file format
     @classmethod
@@ -248,6 +279,7 @@ class Scene:
             force=d.get("force", (0.0, 0.0)),
             lattice=d.get("lattice"),
             thermostat=d.get("thermostat"),
+            top=d.get("top"),
         )
 
     @classmethod
@@ -284,6 +316,8 @@ class Scene:
         d["elements"] = [e.to_dict() for e in self.elements]
         if self.lattice is not None:
             d["lattice"] = self.lattice
+        if self.top is not None:
+            d["top"] = self.top
         return d
 
     def to_yaml(self, path: str | os.PathLike | None = None) -> str:
@@ -299,9 +333,9 @@ class Scene:
         return json.dumps(self.to_dict(), sort_keys=True)
 
     def replace(self, **changes: Any) -> Scene:
-        """A copy with some of ``elements, law, gamma, force, lattice, thermostat`` changed."""
+        """A copy with some of ``elements, law, gamma, force, lattice, thermostat, top`` changed."""
         d = dict(elements=self.elements, law=self.law, gamma=self.gamma, force=self.force,
-                 lattice=self.lattice, thermostat=self.thermostat)
+                 lattice=self.lattice, thermostat=self.thermostat, top=self.top)
         d.update(changes)
         return Scene(**d)
 
@@ -342,20 +376,29 @@ class Scene:
         """The plain scene of every element copy that reaches ``cell`` (for inside tests)."""
         if self.lattice is None:
             return self
+        elems = self._cell_copies(cell)
+        if not elems:
+            raise ValueError(f"cell {tuple(cell)} lies above the top ({self.top}): no element copy reaches it")
+        # the copies are validated elements; the scene of a far cell is for inside tests only (the kernel
+        # runs relative to the cell), so it is not measured against the range of validity again
+        out = object.__new__(Scene)
+        for name, value in dict(elements=tuple(elems), law=self.law, gamma=self.gamma, force=self.force,
+                                lattice=None, thermostat=self.thermostat, top=None).items():
+            object.__setattr__(out, name, value)
+        return out
+
+    def _cell_copies(self, cell):
+        """The element copies that reach ``cell`` of a periodic scene (none above a bounded lattice's top)."""
         from ._engine.table import scene_copies
 
         A, _ = lattice_matrix(self.lattice)
         elems = []
         for e, o1, o2 in scene_copies(self):
             dx, dy = A @ np.array([o1 + cell[0], o2 + cell[1]], float)
-            elems.append(self.elements[e].shifted(dx, dy))
-        # the copies are validated elements; the scene of a far cell is for inside tests only (the kernel
-        # runs relative to the cell), so it is not measured against the range of validity again
-        out = object.__new__(Scene)
-        for name, value in dict(elements=tuple(elems), law=self.law, gamma=self.gamma, force=self.force,
-                                lattice=None, thermostat=self.thermostat).items():
-            object.__setattr__(out, name, value)
-        return out
+            copy = self.elements[e].shifted(dx, dy)
+            if self.top is None or copy.center[1] <= self.top:
+                elems.append(copy)
+        return elems
 
     @property
     def smallest_feature(self) -> float:
@@ -382,7 +425,9 @@ class Scene:
             out = np.empty(len(flat))
             for cell in np.unique(cells, axis=0):
                 sel = np.all(cells == cell, axis=1)
-                out[sel] = self.cell_scene(tuple(cell)).depth(flat[sel])
+                elems = self._cell_copies(tuple(cell))
+                out[sel] = (self.replace(elements=tuple(elems), lattice=None, top=None).depth(flat[sel])
+                            if elems else np.inf)  # above a bounded lattice's top: nothing there
             return out.reshape(pts.shape[:-1])
         depth = np.full(pts.shape[:-1], np.inf)
         finite = [e for e in self.elements if e.finite]

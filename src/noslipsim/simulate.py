@@ -211,9 +211,10 @@ def run_one(scene: Scene, q, v, w, max_collisions, max_time, level, mode, rec):
     """
     form = canonical_form(scene)
     cell, origin, r = form.kernel_starts(q)
-    final = run_orbits(kernel_table(form.scene), [[r[0], r[1], v[0], v[1], w]], max_collisions=max_collisions,
+    table = kernel_table(form.scene)
+    final = run_orbits(table, [[r[0], r[1], v[0], v[1], w]], max_collisions=max_collisions,
                        max_time=max_time, levels=[form.user_level(level) - origin[1]], mode=mode,
-                       rec=rec[None])[0]
+                       rec=rec[None], ceilings=[table.top - origin[1]])[0]
     n, stop, n_corner, n_rec = (int(final[k]) for k in (F_N, F_STOP, F_CORNER, F_NREC))
     t, x, y, vx, vy, w_f = final[[F_T, F_X, F_Y, F_VX, F_VY, F_W]]
     m1, m2 = int(final[F_CELL1]), int(final[F_CELL2])

@@ -216,11 +216,14 @@ def closed_hex_cell(radius=0.4, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.0
                    gamma=gamma, force=force)
 
 
-def galton_board(spacing=2.0, radius=0.5, gravity=1.0, *, law="no-slip", gamma=UNIFORM_DISK):
+def galton_board(spacing=2.0, radius=0.5, gravity=1.0, *, law="no-slip", gamma=UNIFORM_DISK, top_row=None):
     """Galton board: pegs of ``radius`` on a triangular lattice of ``spacing``, force ``(0, -gravity)``.
 
     Lattice ``a1 = (spacing, 0)``, ``a2 = (spacing/2, spacing sqrt(3)/2)``; a peg
-    at the origin of every cell.  The paper gives no geometry for its board:
+    at the origin of every cell.  ``top_row=None`` (the default) continues the
+    lattice upwards without end; an integer ``k`` bounds it: row ``k`` (pegs at
+    height ``k spacing sqrt(3)/2``) is the top row, with nothing above it
+    (``Scene.top`` half a row above it), as a Galton board is built.  The paper gives no geometry for its board:
     the defaults here are only a convenient example.  How much the results
     depend on the choice (the no-slip trapped share moves steeply with the
     radius) and the geometry of the paper's figures are in the README and
@@ -230,5 +233,9 @@ def galton_board(spacing=2.0, radius=0.5, gravity=1.0, *, law="no-slip", gamma=U
         raise ValueError(f"radius: pegs must not touch (0 < 2 radius < spacing), got {radius}")
     if not gravity > 0:
         raise ValueError(f"gravity: must be > 0, got {gravity}")
+    if top_row is not None and (isinstance(top_row, bool) or not isinstance(top_row, (int, np.integer))):
+        raise TypeError(f"top_row: expected an integer row index or None, got {top_row!r}")
+    row = spacing * math.sqrt(3.0) / 2.0
     return Scene((Circle((0.0, 0.0), radius, "outside"),), law=law, gamma=gamma, force=(0.0, -gravity),
-                 lattice={"a1": [spacing, 0.0], "a2": [spacing / 2, spacing * math.sqrt(3.0) / 2.0]})
+                 lattice={"a1": [spacing, 0.0], "a2": [spacing / 2, row]},
+                 top=None if top_row is None else (int(top_row) + 0.5) * row)

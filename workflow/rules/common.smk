@@ -100,6 +100,13 @@ DATASETS = {
     "galton_radius_sweep": dataset("galton", "radius_sweep.nc", "sweep", "galton_radius_sweep",
                                    lambda: {"board": section("galton.board"), "run": section("galton.radius_sweep")},
                                    ENSEMBLE),
+    "galton_rows": dataset("galton", "rows.nc", "rows", "galton_rows",
+                           lambda: {"board": section("galton.board"), "run": section("galton.rows_sweep")},
+                           ENSEMBLE),
+    # Figure S2 (snakemake -j2 evidence)
+    "galton_evidence": dataset("galton", "evidence.nc", "evidence", "galton_evidence",
+                               lambda: {"board": section("galton.board"), "run": section("galton.evidence")},
+                               ENSEMBLE),
     # Figures 1, 4, 5, 6, 8, 16
     **{f"orbits_{name}": _orbits(name) for name in ("specnoslip", "pentagons", "bounce", "newwedge", "twodisks",
                                                      "sphere")},
@@ -148,7 +155,7 @@ ONSETS = lambda: {**THRESHOLD(), "level": config["portraits"]["islands"]["level"
 FIGURES = {
     "fig01_specnoslip": figure("Orbits", {"specnoslip": "orbits_specnoslip"}),
     "fig02_galtonboard": figure("Galton board", {"orbits": "galton_orbits"}),
-    "fig03_normal": figure("Galton board", {"distribution": "galton_distribution"},
+    "fig03_normal": figure("Galton board", {"distribution": "galton_distribution", "rows": "galton_rows"},
                            lambda: {"histogram": section("galton.histogram")}),
     "fig04_pentagons": figure("Orbits", {"pentagons": "orbits_pentagons"}),
     "fig05_bouncingball": figure("Orbits", {"bounce": "orbits_bounce"}),
@@ -167,6 +174,7 @@ FIGURES = {
                             lambda: {"sketch": section("stability.grids.sketch")}),
     "fig16_3dbounce": figure("Orbits", {"sphere": "orbits_sphere"}),
     "figS1_galton_trapping": figure("Galton board", {"arrivals": "galton_arrivals", "sweep": "galton_radius_sweep"}),
+    "figS2_galton_evidence": figure("Galton board", {"evidence": "galton_evidence"}),
     "figS3_hex_readings": figure("Phase portraits", {"readings": "portraits_hex_readings",
                                                      "portraits": "portraits_hex_force"}, THRESHOLD),
 }
@@ -182,7 +190,8 @@ def figure_files(name):
 # datasets and the config values the computation alone depends on.
 NUMBERS = {
     "galton": figure(None, {"distribution": "galton_distribution", "arrivals": "galton_arrivals",
-                            "sweep": "galton_radius_sweep"}),
+                            "sweep": "galton_radius_sweep", "rows": "galton_rows"}),
+    "evidence": figure(None, {"evidence": "galton_evidence"}),
     "orbits": figure(None, {"specnoslip": "orbits_specnoslip", "pentagons": "orbits_pentagons",
                             "bounce": "orbits_bounce", "twodisks": "orbits_twodisks", "sphere": "orbits_sphere"}),
     "stability": figure(None, {"noforce": "stability_grid_noforce", "force": "stability_grid_force",

@@ -25,3 +25,11 @@ for name, spec in FIGURES.items():
             SOFTWARE
         script:
             script_of(vars().get("rule"), name)
+
+
+rule evidence:
+    # The Galton evidence alone (Figure S2 and its numbers, config galton.evidence): the longest
+    # Galton run, `snakemake -j2 evidence`.  `snakemake -j2` (rule all) builds it too.
+    input:
+        figure_files("figS2_galton_evidence"),
+        "results/numbers/evidence.json",

@@ -18,8 +18,9 @@ ds = plot.load_figure_data(snakemake.input.orbits)
 paths = [plot.orbit_path(ds.isel(orbit=i)) for i in range(ds.sizes["orbit"])]
 x0 = min(x.min() for x, _ in paths) - MARGIN
 x1 = max(x.max() for x, _ in paths) + MARGIN
-bottom = ds.attrs["start"][1] - ds.attrs["terminal_depth"]
-window = (x0, x1, bottom - MARGIN, ds.attrs["start"][1] + MARGIN)
+bottom = ds.attrs["terminal_level"]
+highest = max(ds.attrs["start"][1], max(y.max() for _, y in paths))
+window = (x0, x1, bottom - MARGIN, highest + MARGIN)
 
 n = ds.sizes["orbit"]
 aspect = (window[3] - window[2]) / (window[1] - window[0])

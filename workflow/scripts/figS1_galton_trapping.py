@@ -30,22 +30,27 @@ for i in range(curves.sizes["law"]):
     keep = c.share_not_arrived > 0  # log axes
     left.plot(c.time[keep], c.share_not_arrived[keep], style, color=plot.law_color(law), label=label)
 left.axvline(T, color="0.5", linewidth=0.6)
-left.text(T, 0.02, " T", color="0.4", va="bottom", fontsize=7, transform=left.get_xaxis_transform())
+left.text(T, 0.98, " T", color="0.4", va="top", fontsize=7, transform=left.get_xaxis_transform())
 left.set(xscale="log", yscale="log", xlabel="time", ylabel="share not arrived",
          title=f"{arrivals.attrs['n_particles']:,} particles per case")
 left.legend(fontsize=7, loc="lower left")
 
-for law in ("specular", "no-slip"):
+step = 0.015 * float(np.ptp(at.radius.values))  # the laws side by side: specular points never hide under no-slip ones
+for law, shift, marker, z in (("no-slip", step, "s", 2), ("specular", -step, "o", 3)):
     sel = at.sel(law=law)
     for k, (fill, when) in enumerate((("none", "T"), (None, f"{sweep.attrs['time_factor']:g} T"))):
-        right.errorbar(sel.radius, sel.share_not_arrived.isel(time=k), yerr=sel.share_not_arrived_stderr.isel(time=k),
-                       marker="o", markersize=3, capsize=2, color=plot.law_color(law), markerfacecolor=fill,
-                       linestyle="--" if k == 0 else "-", label=f"{law}, not arrived by {when}")
+        right.errorbar(sel.radius + shift, sel.share_not_arrived.isel(time=k),
+                       yerr=sel.share_not_arrived_stderr.isel(time=k), marker=marker, markersize=3, capsize=2,
+                       color=plot.law_color(law), markerfacecolor=fill, linestyle="--" if k == 0 else "-",
+                       linewidth=0.8, zorder=z, label=f"{law}, not arrived by {when}")
 sel = long_run.sel(law="no-slip")
-ok = np.isfinite(sel.trapped_share)
-right.plot(sel.radius[ok], sel.trapped_share[ok], "x", color="k", markersize=4, label="no-slip, trapped (extrapolated)")
+# the tail estimate only where it extrapolates (late arrivals still decaying): elsewhere it is the 10 T share again
+ok = np.isfinite(sel.trapped_share) & (sel.arrivals_late > 0) & (sel.share_not_arrived_final > 0)
+if bool(ok.any()):
+    right.plot(sel.radius[ok], sel.trapped_share[ok], "x", color="k", markersize=4,
+               label="no-slip, never arriving (tail extrapolated)")
 right.axvline(sweep.attrs["board_radius"], color="0.5", linewidth=0.6, linestyle="--")
-right.set(xlabel=f"peg radius (spacing {sweep.attrs['spacing']:g})", ylabel="share", ylim=(-0.02, 1.0),
-          title=f"{sweep.attrs['n_particles']:,} particles per radius")
+right.set(xlabel=f"peg radius (spacing {sweep.attrs['spacing']:g})", ylabel="share not arrived", ylim=(-0.02, 1.0),
+          title=f"{sweep.attrs['n_particles']:,} particles per radius, {sweep.attrs.get('board', 'unbounded')} board")
 right.legend(fontsize=7, loc="upper left")
 plot.save_figure(fig, snakemake.output.pdf)  # writes the .pdf and the .png beside it

@@ -8,6 +8,8 @@ from noslipsim.experiments import galton_orbits
 
 board, orbits = dict(snakemake.params.board), snakemake.params.orbits
 board.pop("max_time")  # the orbits have their own time limit
+board.pop("spread")  # one start and velocity, shared by the panels
+board.pop("speed")
 ds = galton_orbits(orbits["gammas"], velocity=orbits["velocity"], max_time=orbits["max_time"],
                    max_collisions=orbits["max_collisions"], **board)
 write_dataset(ds, snakemake.output.orbits, config={"galton": {"board": snakemake.params.board, "orbits": orbits}},

@@ -204,5 +204,6 @@ def canonical_form(scene):
     if same_basis and not shift.any() and not lattice_moves.any():
         return CanonicalForm(scene, scene, np.zeros(2), eye, True)
     lattice = scene.lattice if same_basis else {"a1": Ac[:, 0].tolist(), "a2": Ac[:, 1].tolist()}
-    canon = scene.replace(elements=elements, lattice=lattice)
+    canon = scene.replace(elements=elements, lattice=lattice,
+                          top=None if scene.top is None else scene.top - float(shift[1]))
     return CanonicalForm(scene, canon, shift, U, False)

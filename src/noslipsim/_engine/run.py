@@ -24,7 +24,7 @@ class KernelMismatch(RuntimeError):
 
 
 def run_orbits(table, starts, *, max_collisions, max_time=math.inf, levels=None, start_elements=None,
-               mode=layout.RECORD_NONE, rec=None, mask=None, flags=None):
+               mode=layout.RECORD_NONE, rec=None, mask=None, flags=None, ceilings=None):
     """Run orbits of one kernel table; returns their summaries.
 
     Parameters
@@ -52,6 +52,9 @@ def run_orbits(table, starts, *, max_collisions, max_time=math.inf, levels=None,
         The kernel variant (:func:`noslipsim.core.loop.orbit_kernel`); default
         ``table.variant(mode)``, the fastest exact one for the table.  Tests and
         benchmarks pass others (``core.variant.GENERAL``: every flag at run time).
+    ceilings : array_like (N,), optional
+        The top of a bounded lattice (``table.top``) relative to each start
+        cell; required when ``table.top`` is finite, ``inf`` otherwise (the default).
 
     Returns
     -------
@@ -72,10 +75,19 @@ def run_orbits(table, starts, *, max_collisions, max_time=math.inf, levels=None,
                       else np.ascontiguousarray(start_elements, dtype=np.int64))
     rec = np.zeros((n, 0, 0)) if rec is None else rec
     mask = np.zeros(len(table.kinds), dtype=np.bool_) if mask is None else mask
+    if ceilings is None:
+        if table.top < math.inf:
+            raise ValueError("ceilings: a bounded lattice (table.top finite) needs the top relative to each start "
+                             "cell")
+        ceilings = np.full(n, math.inf)
+    else:
+        ceilings = np.ascontiguousarray(ceilings, dtype=np.float64)
+        if ceilings.shape != (n,) or np.isnan(ceilings).any():
+            raise ValueError(f"ceilings: expected {n} heights (or inf), got shape {ceilings.shape}")
     flags = table.variant(mode) if flags is None else tuple(flags)
     final = np.zeros((n, N_FINAL))
     _kernel(flags)(*table.arrays(), table.law, table.c, table.s, table.ax, table.ay, table.thermostat, starts,
-                   start_elements, max_collisions, max_time, levels, table.scale, mode, rec, mask, final)
+                   start_elements, max_collisions, max_time, levels, table.scale, mode, rec, mask, final, ceilings)
     check_variant(final[:, F_VARIANT], flags)
     return final
 

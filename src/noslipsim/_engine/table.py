@@ -58,6 +58,11 @@ class KernelTable:
     thermostat : bool
         The force is flown with the Gaussian isokinetic thermostat
         (:mod:`noslipsim.core.thermostat`); false without a force.
+    top : float
+        A bounded lattice's top (``Scene.top``, in the packed scene's
+        coordinates): copies whose centre lies above it do not exist; ``inf``
+        for none.  The kernels take it per orbit, relative to the start cell
+        (:func:`.run.run_orbits`, ``ceilings``).
     """
 
     kinds: np.ndarray
@@ -79,6 +84,7 @@ class KernelTable:
     disk_lattice: bool
     long_walls: bool
     thermostat: bool = False
+    top: float = math.inf
 
     def variant(self, mode):
         """The compile-time flags of the event loop for this table and record mode.
@@ -145,7 +151,7 @@ def kernel_table(scene) -> KernelTable:
         c=c, s=s, ax=ax, ay=ay, scale=scale, has_force=has_force,
         noslip=scene.law_code == layout.NOSLIP, disk_lattice=_disk_lattice(scene),
         long_walls=any(flag != 0.0 for flag in params[:, layout.LONG_WALL]),
-        thermostat=has_force and scene.thermostat is not None)
+        thermostat=has_force and scene.thermostat is not None, top=math.inf if scene.top is None else scene.top)
 
 
 def _element_arrays(elements, placed, scale):
@@ -187,8 +193,8 @@ def _disk_lattice(scene):
     Such disks are convex and never touch, so the loop needs no deflation,
     corner rule or extent test.
     """
-    if scene.lattice is None or scene.force != (0.0, 0.0):
-        return False
+    if scene.lattice is None or scene.force != (0.0, 0.0) or scene.top is not None:
+        return False  # a bounded lattice runs the general loop, which knows the top
     if not all(isinstance(e, Circle) and e.side == "outside" for e in scene.elements):
         return False
     A, _ = lattice_matrix(scene.lattice)

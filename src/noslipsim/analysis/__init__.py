@@ -3,7 +3,7 @@
 Above :mod:`noslipsim.simulate` and :mod:`noslipsim.ensemble`, below
 :mod:`noslipsim.experiments`.  Coordinates and derivations: docs/analysis.md.
 """
-from .galton import arrival_curve
+from .galton import arrival_curve, excess_kurtosis
 from .islands import (
     classify_regular,
     finite_time_lyapunov,
@@ -33,8 +33,8 @@ from .tangent import CornerError
 __all__ = [
     "CornerError", "Monodromy", "PeriodicOrbit", "agreement_share", "arrival_curve", "birkhoff_coordinates",
     "birkhoff_states", "bounce_orbit", "boundary_coordinate", "classify_regular", "elliptic_boundary",
-    "find_periodic_orbit", "finite_time_lyapunov", "head_on_onset_gamma", "interior_starts", "islands_onsets",
-    "lyapunov",
+    "excess_kurtosis", "find_periodic_orbit", "finite_time_lyapunov", "head_on_onset_gamma", "interior_starts",
+    "islands_onsets", "lyapunov",
     "monodromy", "onset_gamma", "reduced_portrait", "reduced_states", "regular_share", "stability_grid",
     "stability_grid_theta", "twin_lyapunov", "two_disk_orbit", "uniform_reduced_states", "velocity_portrait",
     "wedge_noforce_orbit", "wedge_orbit",

@@ -27,7 +27,7 @@ import xarray as xr
 from .._metadata import annotate
 from .._validate import finite_float, positive
 
-__all__ = ["arrival_curve"]
+__all__ = ["arrival_curve", "excess_kurtosis"]
 
 #: Default number of points of the log-spaced time grid.
 N_TIMES = 100
@@ -252,3 +252,53 @@ def arrival_curve(ds, *, times=None, n_times=N_TIMES, max_time=None, tail_span=T
                    f"{TAIL_SIGNIFICANCE} sqrt(n1 + n2)"),
     )
     return annotate(out)
+
+
+#: Bootstrap resamples of :func:`excess_kurtosis`'s standard error.
+KURTOSIS_RESAMPLES = 200
+
+
+def excess_kurtosis(values, *, resamples=KURTOSIS_RESAMPLES, seed=0):
+    r"""Excess kurtosis of a sample and its bootstrap standard error (0 for a normal law).
+
+    .. math::
+
+        \kappa = \frac{\overline{(x - \bar x)^4}}{\left(\overline{(x - \bar x)^2}\right)^2} - 3 .
+
+    A normal law has ``kappa = 0``; heavier tails than the normal of the same
+    standard deviation give ``kappa > 0``.  For a normal sample of size ``n``
+    the standard error is about ``sqrt(24 / n)``; the bootstrap (``resamples``
+    resamples with replacement, a fixed ``seed``: the same number every run)
+    also holds for the heavy-tailed samples where that formula does not.
+
+    Parameters
+    ----------
+    values : array_like
+        The sample (finite numbers, at least 4 that are not all equal).
+    resamples : int
+        Bootstrap resamples (>= 2).
+    seed : int
+        Seed of the resampling.
+
+    Returns
+    -------
+    (float, float)
+        ``kappa`` and its bootstrap standard error.
+    """
+    x = np.asarray(values, dtype=float).ravel()
+    if x.size < 4 or not np.all(np.isfinite(x)):
+        raise ValueError(f"values: expected at least 4 finite numbers, got {x.size} values "
+                         f"({int((~np.isfinite(x)).sum())} not finite)")
+    if not resamples >= 2:
+        raise ValueError(f"resamples: must be >= 2, got {resamples}")
+
+    def kappa(sample):
+        z = sample - sample.mean(axis=-1, keepdims=True)
+        m2 = np.mean(z * z, axis=-1)
+        return np.mean(z ** 4, axis=-1) / m2 ** 2 - 3.0
+
+    if not np.ptp(x) > 0:
+        raise ValueError("values: all equal, the kurtosis is undefined")
+    rng = np.random.default_rng(seed)
+    boot = np.array([kappa(x[rng.integers(0, x.size, x.size)]) for _ in range(int(resamples))])
+    return float(kappa(x)), float(np.std(boot[np.isfinite(boot)], ddof=1))

@@ -149,8 +149,10 @@ def boundary_log(scene: Scene, element, q, v, w, n):
         raise ValueError(f"position: the boundary point {list(q)} of element {element} lies outside cell 0 "
                          "of the lattice; choose an element copy inside cell 0")
     rec = np.zeros((1, n, layout.N_LOG))
-    final = run_orbits(kernel_table(scene), [[float(q[0]), float(q[1]), float(v[0]), float(v[1]), float(w)]],
-                       max_collisions=n, start_elements=[int(element)], mode=layout.RECORD_LOG, rec=rec)[0]
+    table = kernel_table(scene)
+    final = run_orbits(table, [[float(q[0]), float(q[1]), float(v[0]), float(v[1]), float(w)]],
+                       max_collisions=n, start_elements=[int(element)], mode=layout.RECORD_LOG, rec=rec,
+                       ceilings=[table.top])[0]  # cell 0: its origin is the scene's
     return rec[0, :int(final[F_NREC])], layout.STOP_REASONS[int(final[F_STOP])]
 
 

@@ -78,7 +78,7 @@ def _face_time(alpha0, alpha1, face, t_in):
 
 @jit
 def _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
-                   cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells):
+                   cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling):
     """:func:`walk_hit` for a flight without force: the incremental grid walk.
 
     ``alpha(t) = a0 + a1 t`` and ``beta(t) = b0 + b1 t`` are the flight's lattice
@@ -96,7 +96,7 @@ def _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
     for _ in range(max_cells):
         t_out = min(ta, tb)
         t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, 0.0, 0.0, False,
-                                   cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in)
+                                   cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
         if e >= 0:
             return t, e, o1, o2, 0
         if t_out >= t_limit:
@@ -113,19 +113,21 @@ def _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
 
 @jit
 def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
-             cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells):
+             cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling=INF):
     """Earliest hit of a flight from ``(x, y)`` (relative to cell 0) in a periodic scene.
 
     Returns ``(t, element, o1, o2, status)``: ``status`` 0 for a hit, 1 when the
     walk passed ``t_limit`` without a hit, 2 when it crossed ``max_cells`` cells
     without a hit (an endless free flight, reported as an escape).
+    ``ceiling``: the top of a bounded lattice relative to cell 0 (copies whose
+    centre lies above it are skipped, :func:`events.hit_in_cell`); ``inf`` for none.
     """
     # lattice coordinates along the flight: alpha(t) = B[0].q(t), beta(t) = B[1].q(t)
     a0, b0 = lattice_coordinates(B, x, y)
     a1, b1 = lattice_coordinates(B, vx, vy)
     if not has_force:
         return _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
-                              cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells)
+                              cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling)
     a2, b2 = lattice_coordinates(B, ax, ay)
     a2 *= 0.5
     b2 *= 0.5
@@ -137,7 +139,7 @@ def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
         tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
         t_out = min(ta, tb)
         t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, True,
-                                   cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in)
+                                   cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
         if e >= 0:
             return t, e, o1, o2, 0
         if t_out >= t_limit:

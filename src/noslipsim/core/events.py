@@ -131,14 +131,18 @@ def element_hit_time(kind, p, x, y, vx, vy, ax, ay, has_force, deflate, hi, exte
 
 @jit(inline="always")
 def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_force,
-                cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, shifted=True):
+                cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, shifted=True, ceiling=INF):
     """Earliest hit in ``(0, hi]`` over the element copies that reach cell ``(d1, d2)``.
 
     ``copies[k] = (element, o1, o2)``: element translated by ``o1 a1 + o2 a2``
     (the columns of ``A``) relative to the cell; a plain scene has one copy per
     element with zero offset and passes ``shifted=False`` (no shift to form).
     The copy just hit, ``(cur_e, cur_o1, cur_o2)`` in absolute offsets, is
-    deflated on the flight from ``(x, y)``.  Every other
+    deflated on the flight from ``(x, y)``.  A bounded lattice (a Galton
+    board's top row, ``Scene.top``) passes ``ceiling``, the top relative to
+    the cell of ``(x, y)``: a copy (every element a circle) whose centre lies
+    above it does not exist and is skipped; ``inf`` (the default) skips none
+    and changes no operation of the test.  Every other
     copy is solved on the flight re-centred at ``t_in`` (when the particle
     enters the cell), so a long flight's crossing polynomial is formed at the
     scale of the cell and keeps its digits.  Ties go to the earlier copy.
@@ -172,6 +176,8 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_forc
         o1 = copies[k, 1] + d1
         o2 = copies[k, 2] + d2
         sx, sy = copy_shift(A, o1, o2, shifted)
+        if params[e, 1] + sy > ceiling:  # above a bounded lattice's top: no such copy (circles: cy)
+            continue
         if e == cur_e and o1 == cur_o1 and o2 == cur_o2:
             t = element_hit_time(kinds[e], params[e], x - sx, y - sy, vx, vy, ax, ay, has_force,
                                  True, best_t, extent_tol)

@@ -68,8 +68,11 @@ def _near_junction(jstart, jpts, e, x, y, gate):
 
 
 @jit
-def _contact(kinds, params, copies, A, lattice, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2, tol):
-    """First element copy (other than the current one) touched here and left through, or ``(-1, 0, 0)``."""
+def _contact(kinds, params, copies, A, lattice, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2, tol, ceiling):
+    """First element copy (other than the current one) touched here and left through, or ``(-1, 0, 0)``.
+
+    Copies above ``ceiling`` (a bounded lattice's top, relative to the cell) do not exist.
+    """
     for k in range(copies.shape[0]):
         e = copies[k, 0]
         o1 = copies[k, 1]
@@ -77,9 +80,24 @@ def _contact(kinds, params, copies, A, lattice, x, y, vx, vy, ax, ay, cur_e, cur
         if e == cur_e and o1 == cur_o1 and o2 == cur_o2:
             continue
         sx, sy = copy_shift(A, o1, o2, lattice)
+        if params[e, 1] + sy > ceiling:
+            continue
         if leaves_through_contact(kinds[e], params[e], x - sx, y - sy, vx, vy, ax, ay, tol):
             return e, o1, o2
     return -1, 0, 0
+
+
+@jit
+def _above_top(params, y, top):
+    """True if height ``y`` lies above every copy of a bounded lattice whose top is ``top`` (circles only).
+
+    With no downward velocity or force the particle then never meets a copy again (an escape),
+    which the cell walk would only find after ``MAX_CELLS_PER_FLIGHT`` empty cells.
+    """
+    reach = 0.0
+    for e in range(params.shape[0]):
+        reach = max(reach, params[e, 2])
+    return y > top + reach
 
 
 def kernel_flags(has_force, noslip, lattice, mode, disks=False, walls=False, thermostat=False):
@@ -139,7 +157,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
 
     @jit
     def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, thermostat, x, y, vx, vy, w,
-                  max_collisions, max_time, stop_below, scale, mode, rec, mask, start_element=-1):
+                  max_collisions, max_time, stop_below, scale, mode, rec, mask, start_element=-1, ceiling=INF):
         """Run one orbit from a state strictly inside the table.
 
         Parameters
@@ -184,6 +202,11 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
             ``-1`` for a start strictly inside the table; otherwise the particle
             starts on this element (in cell 0) as if just reflected by it, so its
             ``t = 0`` root is deflated (boundary initial conditions).
+        ceiling : float
+            The top of a bounded lattice (``Scene.top``) relative to the start
+            cell: element copies (circles) whose centre lies above it do not
+            exist; ``inf`` (the default) for an unbounded lattice or a plain scene.
+            Not supported with the thermostat (``Scene`` refuses the pair).
 
         Returns
         -------
@@ -251,9 +274,12 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                         break
                 elif LATTICE_ALWAYS or (LATTICE_RT and lattice):
                     limit = min(remaining, t_level)
-                    t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay,
-                                                        has_force, cur_e, cur_o1, cur_o2, limit, extent_tol,
-                                                        MAX_CELLS_PER_FLIGHT)
+                    if ceiling < INF and vy >= 0.0 and ay >= 0.0 and _above_top(params, y, ceiling - oy):
+                        t_hit, e, o1, o2, status = INF, -1, 0, 0, 2  # rising above a bounded lattice for good
+                    else:
+                        t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay,
+                                                            has_force, cur_e, cur_o1, cur_o2, limit, extent_tol,
+                                                            MAX_CELLS_PER_FLIGHT, ceiling - oy)
                     escape = status == 2 or (status == 1 and limit == INF)
                 else:
                     t_hit, e, o1, o2 = hit_in_cell(kinds, params, copies, A, 0, 0, x, y, vx, vy, ax, ay,
@@ -337,7 +363,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                     if THERMO_ALWAYS or (THERMO_ANY and thermo):
                         aex, aey = drag(vx, vy, ax, ay)
                     j, o1, o2 = _contact(kinds, params, copies, A, lattice, x, y, vx, vy, aex, aey,
-                                         cur_e, cur_o1, cur_o2, CONTACT_TOL * length)
+                                         cur_e, cur_o1, cur_o2, CONTACT_TOL * length, ceiling - oy)
                     if j < 0:
                         break
                     bounces += 1

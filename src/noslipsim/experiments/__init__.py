@@ -6,7 +6,7 @@ One module per subject of the figure pipeline: :mod:`.galton` (Figures 2, 3, S1)
 over :mod:`.orbit_sets` (several orbits as one dataset).
 ``EXPERIMENTS`` names those a config file can run (``noslipsim run``).
 """
-from .galton import galton_cases, galton_distribution, galton_orbits, galton_radius_sweep
+from .galton import galton_cases, galton_distribution, galton_evidence, galton_orbits, galton_radius_sweep
 from .orbit_sets import orbit_set, phase_portrait
 from .orbits import (
     bounce_orbits,
@@ -31,7 +31,7 @@ from .readings import readings_table, stability_readings
 from .stability import perturbed_wedge_orbits, survival_pattern, wedge_launch_scan, wedge_periodic_orbits
 
 EXPERIMENTS = {f.__name__: f for f in (
-    galton_distribution, galton_radius_sweep, galton_orbits,
+    galton_distribution, galton_radius_sweep, galton_orbits, galton_evidence,
     specular_noslip_orbits, pentagon_orbits, bounce_orbits, newwedge_orbits, two_disk_box_orbits, sphere_bounce,
     wedge_periodic_orbits, perturbed_wedge_orbits, wedge_launch_scan,
     sinai_gamma_portraits, sinai_islands_sweep, hex_force_portraits, hex_force_readings, polygon_portraits,
@@ -44,6 +44,7 @@ __all__ = [
     "bounce_orbits",
     "galton_cases",
     "galton_distribution",
+    "galton_evidence",
     "galton_orbits",
     "galton_radius_sweep",
     "hex_force_portraits",

@@ -230,7 +230,9 @@ def _wall_chords(scene, box, copies):
 
 
 def _copies(scene, box):
-    """``(element, dx, dy)`` for every copy of every element whose bounding box meets the window."""
+    """``(element, dx, dy)`` for every copy of every element whose bounding box meets the window.
+
+    A bounded lattice (``scene.top``) has no copy whose centre lies above its top."""
     if scene.lattice is None:
         return [(e, 0.0, 0.0) for e in scene.elements]
     A, B = lattice_matrix(scene.lattice)
@@ -247,6 +249,8 @@ def _copies(scene, box):
         for n1 in range(lo[0], hi[0] + 1):
             for n2 in range(lo[1], hi[1] + 1):
                 dx, dy = A @ np.array([n1, n2], float)
+                if scene.top is not None and e.center[1] + dy > scene.top:
+                    continue
                 if ex1 + dx >= x0 and ex0 + dx <= x1 and ey1 + dy >= y0 and ey0 + dy <= y1:
                     out.append((e, float(dx), float(dy)))
     return out

@@ -47,6 +47,9 @@ class _Table:
         self.periodic = scene.lattice is not None
         self.scale = ctx.mpf(scene.scale)
         self._copies = {}
+        # a bounded lattice (Scene.top): copies whose centre lies above the top do not exist (circles only)
+        self.top = None if getattr(scene, "top", None) is None else ctx.mpf(scene.top)
+        self.centre_y = [ctx.mpf(e.center[1]) if self.top is not None else None for e in scene.elements]
         if self.periodic:
             lat = scene.lattice
             raw = (lat["a1"][0], lat["a1"][1], lat["a2"][0], lat["a2"][1])
@@ -92,8 +95,13 @@ class _Table:
         return c
 
     def copies_at(self, d1, d2):
-        """The element copies that reach cell ``(d1, d2)``, in element order (plain scenes: every element)."""
-        return [self.copy(e, o1 + d1, o2 + d2) for e, o1, o2 in self.reach]
+        """The element copies that reach cell ``(d1, d2)``, in element order (plain scenes: every element).
+
+        On a bounded lattice, none whose centre lies above the top."""
+        copies = [self.copy(e, o1 + d1, o2 + d2) for e, o1, o2 in self.reach]
+        if self.top is None:
+            return copies
+        return [c for (e, _, _), c in zip(self.reach, copies) if self.centre_y[e] + c.sy <= self.top]
 
     def period(self, vx, vy, ax, ay):
         """The length ``|P|`` of the lattice vector along which the flight's path is a straight line, or None.
