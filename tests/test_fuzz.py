@@ -55,6 +55,10 @@ def warm_kernels():
                 s = scene.replace(law=law, force=force)
                 ns.simulate(s, (0.45, 0.45), (0.3, 0.2), max_collisions=3)
                 ns.simulate_many(s, [[0.45, 0.45]], [[0.3, 0.2]], max_collisions=3, scheduler="sync")
+    # the magnitude test's tables: long walls (the half-plane), the thermostat, disks on a lattice under a force
+    for scene, start in MAGNITUDE_TABLES:
+        for force in ((0.0, 0.0), (0.3, -0.4)):
+            ns.simulate(scene.replace(force=force), start, (0.6, 0.8), 0.3, max_collisions=3)
 
 
 @pytest.fixture(autouse=True)
