@@ -234,6 +234,17 @@ def _one_ftle(scene, q, v, w, n_collisions):
         return math.nan
 
 
+def _orbit_starts(positions, velocities, spins):
+    """``(q, v, w)`` as float arrays of shapes (n, 2), (n, 2), (n,) (no spins: zeros); a clear error otherwise."""
+    q = np.asarray(positions, dtype=float)
+    v = np.asarray(velocities, dtype=float)
+    w = np.zeros(len(q)) if spins is None else np.asarray(spins, dtype=float)
+    if q.ndim != 2 or q.shape[1] != 2 or v.shape != q.shape or w.shape != (len(q),):
+        raise ValueError(f"positions, velocities, spins: expected shapes (n, 2), (n, 2), (n,), got "
+                         f"{q.shape}, {v.shape}, {w.shape}")
+    return q, v, w
+
+
 def finite_time_lyapunov(scene: Scene, positions, velocities, spins=None, *, n_collisions=2000, num_workers=1):
     r"""Finite-time largest Lyapunov exponent per collision of each orbit.
 
@@ -266,12 +277,7 @@ def finite_time_lyapunov(scene: Scene, positions, velocities, spins=None, *, n_c
     """
     scene = _scene(scene)
     require_free_fall(scene, "finite_time_lyapunov")  # before the per-orbit NaN for corners
-    q = np.asarray(positions, dtype=float)
-    v = np.asarray(velocities, dtype=float)
-    w = np.zeros(len(q)) if spins is None else np.asarray(spins, dtype=float)
-    if q.ndim != 2 or q.shape[1] != 2 or v.shape != q.shape or w.shape != (len(q),):
-        raise ValueError(f"positions, velocities, spins: expected shapes (n, 2), (n, 2), (n,), got "
-                         f"{q.shape}, {v.shape}, {w.shape}")
+    q, v, w = _orbit_starts(positions, velocities, spins)
     n_collisions = count(n_collisions, "n_collisions", minimum=9)
     num_workers = count(num_workers, "num_workers")
     if num_workers == 1 or len(q) < 2:
@@ -344,12 +350,7 @@ def twin_lyapunov(scene: Scene, positions, velocities, spins=None, *, n_collisio
         collisions (escape, corner, grazing, search limit).
     """
     scene = _scene(scene)
-    q = np.asarray(positions, dtype=float)
-    v = np.asarray(velocities, dtype=float)
-    w = np.zeros(len(q)) if spins is None else np.asarray(spins, dtype=float)
-    if q.ndim != 2 or q.shape[1] != 2 or v.shape != q.shape or w.shape != (len(q),):
-        raise ValueError(f"positions, velocities, spins: expected shapes (n, 2), (n, 2), (n,), got "
-                         f"{q.shape}, {v.shape}, {w.shape}")
+    q, v, w = _orbit_starts(positions, velocities, spins)
     block = count(block, "block")
     n_collisions = count(n_collisions, "n_collisions", minimum=block)
     separation = positive(separation, "separation")
