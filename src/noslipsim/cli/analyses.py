@@ -232,12 +232,27 @@ def periodic(args):
             plot.draw_orbit(ax, orbit)
             ax.set_title(f"{period}-periodic orbit, residual {found.residual:.1e}", fontsize="small")
         _figure(args.figure, draw)
-    def fmt(v):
-        return "[" + ", ".join(f"{x:.10g}" for x in v) + "]"
-
-    print(f"found a {period}-periodic orbit: position {fmt(found.position)}, velocity {fmt(found.velocity)}, "
-          f"spin {found.spin:.10g}, residual {found.residual:.1e}, {kind}; wrote {args.output}"
+    speed = float(np.hypot(*found.velocity))
+    print(f"found a {period}-periodic orbit: position {_digits(found.position, scene.scale)}, velocity "
+          f"{_digits(found.velocity, speed)}, spin {_digits([found.spin], speed)[1:-1]}, "
+          f"residual {_residual(found.residual)}, {kind}; wrote {args.output}"
           + (f" and {args.figure}" if args.figure else ""))
+
+
+#: Below this fraction of its scale a printed component is rounding (the dataset keeps every digit).
+ROUNDING = 1e-12
+
+
+def _digits(values, scale):
+    """``[a, b]`` to 10 digits, components under ``ROUNDING * scale`` printed as 0: Newton's last step
+    leaves such a component at the rounding of the machine's linear algebra, which differs between
+    CPUs, and ten digits of it would only print that noise."""
+    return "[" + ", ".join(f"{0.0 if abs(x) < ROUNDING * scale else x:.10g}" for x in values) + "]"
+
+
+def _residual(residual):
+    """The residual, or a bound where it is at rounding level (its digits differ between CPUs)."""
+    return f"{residual:.1e}" if residual >= 1e-14 else "< 1e-14"
 
 
 # ---------------------------------------------------------------------------- lyapunov
