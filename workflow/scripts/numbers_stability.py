@@ -46,6 +46,12 @@ numbers["force_threshold_side"] = dict(
     format=".1%", paper="the stability threshold is unaltered",
     note=f"{kept} of {total} points; holds at small θ only: the R × θ grid shows R* falling to 0 at θ = π/2 - φ")
 
+same = grid["force"].linear_kind.values == grid["noforce"].linear_kind.values
+numbers["force_class_equals_noforce"] = dict(
+    description=f"force, θ = {theta_f:g}: share of the R × φ grid whose linear class under gravity is the "
+                "force-free one", value=float(same.mean()), format=".0%", paper="the stability threshold is unaltered",
+    note=f"{grid['force'].sizes['radius']} × {grid['force'].sizes['phi']} grid; the share falls as θ grows "
+         "(config/README.md)")
 edge = {k: elliptic_boundary(grid[k]).attrs for k in ("noforce", "force")}
 numbers["force_threshold_shift"] = dict(
     description=f"force, θ = {theta_f:g}: how far below the force-free threshold R*(φ) the elliptic region "
