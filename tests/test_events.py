@@ -22,7 +22,6 @@ What may differ, and why (no float method can do better):
 Everything else (whether there is a hit, which element, at what time) must agree.
 """
 import functools
-import inspect
 import itertools
 import math
 import zlib
@@ -60,9 +59,6 @@ def loguni(rng, lo, hi):
     return 10.0 ** rng.uniform(lo, hi)
 
 
-_HIT_IN_CELL_ARGS = list(inspect.signature(hit_in_cell.py_func).parameters)
-
-
 def next_hit(kinds, params, x, y, vx, vy, ax, ay, has_force, current, hi, extent_tol, hit=None):
     """Earliest hit ``(t, element)`` over a plain scene: ``hit_in_cell`` on cell (0, 0) with one
     copy per element and no offsets (what the event loop does for a scene without lattice)."""
@@ -70,9 +66,9 @@ def next_hit(kinds, params, x, y, vx, vy, ax, ay, has_force, current, hi, extent
     copies[:, 0] = np.arange(len(kinds))
     A = np.zeros((2, 2))
     hit = hit_in_cell if hit is None else hit
-    extra = (0.0,) * (len(_HIT_IN_CELL_ARGS) - 18)   # t_in = 0: the flight starts in the cell
+    # t_in = 0: the flight starts in the cell; no shift to form; no ceiling (a bounded lattice's top)
     t, e, _, _ = hit(kinds, params, copies, A, 0, 0, x, y, vx, vy, ax, ay, has_force,
-                     current, 0, 0, hi, extent_tol, *extra)
+                     current, 0, 0, hi, extent_tol, 0.0, False, INF)
     return t, e
 
 

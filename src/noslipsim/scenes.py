@@ -379,8 +379,12 @@ class Scene:
         elems = self._cell_copies(cell)
         if not elems:
             raise ValueError(f"cell {tuple(cell)} lies above the top ({self.top}): no element copy reaches it")
-        # the copies are validated elements; the scene of a far cell is for inside tests only (the kernel
-        # runs relative to the cell), so it is not measured against the range of validity again
+        return self._plain_scene(elems)
+
+    def _plain_scene(self, elems):
+        """The plain scene of element copies of this one (a cell's), built without validation: the copies
+        are validated elements, and the scene of a far cell is for inside tests only (the kernel runs
+        relative to the cell), so it is not measured against the range of validity again."""
         out = object.__new__(Scene)
         for name, value in dict(elements=tuple(elems), law=self.law, gamma=self.gamma, force=self.force,
                                 lattice=None, thermostat=self.thermostat, top=None).items():
@@ -426,7 +430,7 @@ class Scene:
             for cell in np.unique(cells, axis=0):
                 sel = np.all(cells == cell, axis=1)
                 elems = self._cell_copies(tuple(cell))
-                out[sel] = (self.replace(elements=tuple(elems), lattice=None, top=None).depth(flat[sel])
+                out[sel] = (self._plain_scene(elems).depth(flat[sel])
                             if elems else np.inf)  # above a bounded lattice's top: nothing there
             return out.reshape(pts.shape[:-1])
         depth = np.full(pts.shape[:-1], np.inf)
