@@ -423,7 +423,7 @@ def test_every_caption_is_clean_restructuredtext():
 
     for rst in sorted((ROOT / "workflow" / "report").glob("*.rst")):
         log = io.StringIO()
-        publish_parts(rst.read_text(encoding="utf-8"), source_path=str(rst), writer_name="html",
+        publish_parts(rst.read_text(encoding="utf-8"), source_path=str(rst), writer="html",
                       settings_overrides={"warning_stream": log, "report_level": 1, "halt_level": 5})
         assert log.getvalue() == "", f"{rst.name}: {log.getvalue()}"
 
