@@ -93,15 +93,13 @@ def check_starts(scene: Scene, positions, velocities, spins, start_elements=None
         if still.any():
             raise ValueError(f"velocities: orbit {int(np.argmax(still))} has zero speed; the isokinetic "
                              "thermostat keeps the speed, so it needs a nonzero one")
-    if n:
-        rel_all = q - (cell_origin(cell_of(q, scene.lattice, "positions"), scene.lattice)
-                       if scene.lattice is not None else 0.0)
-        check_magnitudes(scene, rel_all, v, w, ("positions", "velocities", "spins"), lambda i: f"orbit {i}: ")
+    # positions relative to their cells' origins (plain scenes: as given)
+    rel = q - (cell_origin(cell_of(q, scene.lattice, "positions"), scene.lattice)
+               if scene.lattice is not None else 0.0)
+    check_magnitudes(scene, rel, v, w, ("positions", "velocities", "spins"), lambda i: f"orbit {i}: ")
     inside = on < 0
     if inside.any():
-        rel = q[inside] - (cell_origin(cell_of(q[inside], scene.lattice, "positions"), scene.lattice)
-                           if scene.lattice is not None else 0.0)
-        margin = START_MARGIN * np.maximum(scene.scale, np.abs(rel).max(axis=1))
+        margin = START_MARGIN * np.maximum(scene.scale, np.abs(rel[inside]).max(axis=1))
         depth = scene.depth(q[inside])
         bad = ~(depth > margin)
         if bad.any():

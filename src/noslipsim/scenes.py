@@ -252,8 +252,8 @@ class Scene:
         if not math.isfinite(top):
             raise ValueError(f"top: must be finite, got {top} (leave it out for an unbounded lattice)")
         if abs(top) > MAX_MAGNITUDE:
-            raise ValueError(f"top: {top:g} lies outside the range of validity (|top| <= {MAX_MAGNITUDE:g}, "
-                             "docs/conventions.md)")
+            raise ValueError(f"top: {top:.3g} lies beyond {MAX_MAGNITUDE:g}, the largest length the engine is exact "
+                             f"for ({_RANGE_DOC})")
         if self.lattice is None:
             raise ValueError("top: only a lattice has a top row; this scene has no lattice")
         for i, e in enumerate(self.elements):
