@@ -234,7 +234,7 @@ def periodic(args):
         _figure(args.figure, draw)
     speed = float(np.hypot(*found.velocity))
     print(f"found a {period}-periodic orbit: position {_digits(found.position, scene.scale)}, velocity "
-          f"{_digits(found.velocity, speed)}, spin {_digits([found.spin], speed)[1:-1]}, "
+          f"{_digits(found.velocity, speed)}, spin {_digit(found.spin, speed)}, "
           f"residual {_residual(found.residual)}, {kind}; wrote {args.output}"
           + (f" and {args.figure}" if args.figure else ""))
 
@@ -243,11 +243,16 @@ def periodic(args):
 ROUNDING = 1e-12
 
 
+def _digit(x, scale):
+    """``x`` to 10 digits, or 0 under ``ROUNDING * scale``: Newton's last step leaves such a component at
+    the rounding of the machine's linear algebra, which differs between CPUs, and ten digits of it
+    would only print that noise."""
+    return f"{0.0 if abs(x) < ROUNDING * scale else x:.10g}"
+
+
 def _digits(values, scale):
-    """``[a, b]`` to 10 digits, components under ``ROUNDING * scale`` printed as 0: Newton's last step
-    leaves such a component at the rounding of the machine's linear algebra, which differs between
-    CPUs, and ten digits of it would only print that noise."""
-    return "[" + ", ".join(f"{0.0 if abs(x) < ROUNDING * scale else x:.10g}" for x in values) + "]"
+    """``[a, b]``, each component as :func:`_digit` prints it."""
+    return "[" + ", ".join(_digit(x, scale) for x in values) + "]"
 
 
 def _residual(residual):
