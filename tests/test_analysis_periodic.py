@@ -6,6 +6,7 @@ property the paper claims for it.  The starts below were found by a search from 
 (seeded) and are recorded with the orbit they lead to.
 """
 import math
+import zlib
 
 import numpy as np
 import pytest
@@ -155,7 +156,7 @@ THEOREM_ORBITS = {
 @pytest.mark.parametrize("name", sorted(THEOREM_ORBITS))
 def test_theorem_orbits_are_found_from_a_start_1e3_away(name):
     scene, state = THEOREM_ORBITS[name]()
-    rng = np.random.default_rng(abs(hash(name)) % 2 ** 32)
+    rng = np.random.default_rng(zlib.crc32(name.encode()))  # hash() of a str changes with each process
     q = np.asarray(state["position"]) + 1e-3 * rng.standard_normal(2)
     v = np.asarray(state["velocity"]) + 1e-3 * rng.standard_normal(2)
     w = state["spin"] + 1e-3 * rng.standard_normal()
@@ -163,7 +164,10 @@ def test_theorem_orbits_are_found_from_a_start_1e3_away(name):
     assert res.converged and res.residual <= 1e-12, (name, res.message, res.history)
     assert res.iterations <= 8
     _, X = states(scene, res.state, 8)
-    assert period_drift(X, 2) < 1e-9 * max(1.0, np.abs(res.monodromy.eigenvalues).max())
+    # a start off the orbit by the residual (<= 1e-12) drifts off by |lambda| more each period
+    lam = max(1.0, np.abs(res.monodromy.eigenvalues).max())
+    drift = np.abs(X[2:] - X[:-2]).max(axis=1) / (1.0 + np.abs(X).max())
+    assert np.all(drift < 1e-11 * lam ** (np.arange(len(drift)) // 2 + 1)), drift
     # the orbit found is the theorem's family member next to the start, not another orbit
     _, X0 = states(scene, state, 2)
     gap = min(np.abs(X[:2] - X0).max(), np.abs(X[:2] - X0[::-1]).max())  # the found start may be a flight later
