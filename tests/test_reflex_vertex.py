@@ -25,7 +25,7 @@ import math
 import numpy as np
 import pytest
 
-from noslipsim import Scene, Segment, simulate, tables
+from noslipsim import Scene, Segment, simulate, simulate_many, tables
 from noslipsim.reference import resume_reference, simulate_reference
 
 DPS = 30
@@ -45,15 +45,16 @@ FLIGHTS = {
 T_HIT = 0.25
 
 
-def diamond(law, gamma, force, lattice):
+def diamond(law, gamma, force, lattice, thermostat=None):
     """The diamond of centre (1/2, 1/2) and half-diagonal 1/4: on the unit square lattice, or in a box."""
     c, h = 0.5, 0.25
     pts = [(c, c + h), (c + h, c), (c, c - h), (c - h, c)]
     segs = tuple(Segment(pts[i], pts[(i + 1) % 4], "left") for i in range(4))
     if lattice:
-        return Scene(segs, law=law, gamma=gamma, force=force, lattice={"a1": [1.0, 0.0], "a2": [0.0, 1.0]})
+        return Scene(segs, law=law, gamma=gamma, force=force, thermostat=thermostat,
+                     lattice={"a1": [1.0, 0.0], "a2": [0.0, 1.0]})
     box = tables.polygon([(-0.5, -0.5), (1.5, -0.5), (1.5, 1.5), (-0.5, 1.5)]).elements
-    return Scene(segs + box, law=law, gamma=gamma, force=force)
+    return Scene(segs + box, law=law, gamma=gamma, force=force, thermostat=thermostat)
 
 
 def scales(scene, ds):
@@ -95,6 +96,30 @@ def test_float_engine_reflects_once_at_a_reflex_vertex(lattice, flight, law, gam
     assert ref.sizes["collision"] == 2
     assert_collisions_agree(ref, flt.isel(collision=slice(1, 3)), scene, float(flt.t[0]),
                             f"after the vertex hit on edge {e0}")
+
+
+#: Flights from ``P`` on edge 3 into its table side, leaving edge 2's line (whose float distance
+#: at ``P`` rounds to +3e-16: the table side): (force, thermostat).
+FROM_P = {"straight": ((0.0, 0.0), None), "gravity": ((0.3, -0.5), None),
+          "thermostat": ((0.3, -0.5), "isokinetic")}
+
+
+@pytest.mark.parametrize("kind", list(FROM_P))
+@pytest.mark.parametrize("lattice", [True, False], ids=["lattice", "plain"])
+def test_a_flight_from_a_reflex_vertex_is_not_hit_by_the_other_piece(lattice, kind):
+    """A boundary start on edge 3 at ``P``: edge 2's root ``t = 0`` is no collision (thermostat included).
+
+    The engine's next two collisions are the reference's from the same state
+    (``thermo_events.hit_in_cell`` has the same rule as ``events.hit_in_cell``).
+    """
+    force, thermostat = FROM_P[kind]
+    scene = diamond("specular", 0.0, force, lattice, thermostat)
+    v = (0.3, 1.0)
+    flt = simulate_many(scene, [P], [v], [0.0], start_elements=[3], record="log", max_collisions=2,
+                        scheduler="sync").isel(orbit=0)
+    ref = resume_reference(scene, P, v, 0.0, 3, max_collisions=2, dps=DPS)
+    assert float(flt.t[0]) > 0.1, "edge 2 hit at the start"
+    assert_collisions_agree(ref, flt, scene, what=f"from P on edge 3 ({kind})")
 
 
 def test_reference_reflects_once_at_a_reflex_vertex_under_gravity():
