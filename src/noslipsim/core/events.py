@@ -185,8 +185,10 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_forc
     just reflected into the other piece's side the particle is inside,
     whichever side of this line rounding put it on.  Kept, the root is a hit
     a rounding-sized time later inside this end's band, and the particle
-    reverses (a double hit).  Tested only for a copy that would be the
-    earliest hit so far, so other flights pay a comparison and change no bit.
+    reverses (a double hit).  Tested only for a segment or arc with an open
+    end that would be the earliest hit so far, so other flights pay a
+    comparison (closed convex polygons: the end factors, read inline) and
+    change no bit.
     Returns ``(t, element, o1, o2)`` or ``(inf, -1, 0, 0)``.
     """
     xi, yi, vxi, vyi = advance(x, y, vx, vy, ax, ay, t_in, has_force)
@@ -230,6 +232,7 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_forc
             t = t_in + element_hit_time(kinds[e], params[e], xi - sx, yi - sy, vxi, vyi, ax, ay,
                                         has_force, False, best_t - t_in, extent_tol)
             if (t <= best_t and t < INF and (kinds[e] == SEGMENT or kinds[e] == ARC)
+                    and (params[e, END_START] < 1.0 or params[e, END_END] < 1.0)
                     and starts_at_open_end(kinds[e], params[e], x - sx, y - sy, extent_tol)):
                 # the root t = 0 at an open end is exact: no collision (docstring; docs/algorithm.md, step 4)
                 t = element_hit_time(kinds[e], params[e], x - sx, y - sy, vx, vy, ax, ay, has_force,

@@ -42,7 +42,7 @@ import math
 from .events import starts_at_open_end
 from .geometry import LINE_GATE, copy_shift, element_box, extent_position, lattice_coordinates, line_value_exact
 from .jit import jit
-from .layout import ARC, LINE, SEGMENT
+from .layout import ARC, END_END, END_START, LINE, SEGMENT
 from .roots import linear_exit, quadratic_exit
 from .thermostat import displacement, drag, state
 from .tolerances import ROOT_MAX_ITER
@@ -502,6 +502,7 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, fl, E, cur_e, cur_o1, cur_o2, 
                     continue
             t = element_hit(kinds[e], params[e], fl, sx, sy, False, t_in, best_t, extent_tol, E)
             if (0.0 <= t <= best_t and t < INF and (kinds[e] == SEGMENT or kinds[e] == ARC)
+                    and (params[e, END_START] < 1.0 or params[e, END_END] < 1.0)
                     and starts_at_open_end(kinds[e], params[e], fl[0] - sx, fl[1] - sy, extent_tol)):
                 # the root t = 0 at an open end is exact: no collision (events.hit_in_cell)
                 t = element_hit(kinds[e], params[e], fl, sx, sy, True, 0.0, best_t, extent_tol, E)
