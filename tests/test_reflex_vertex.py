@@ -156,3 +156,43 @@ def test_exact_hit_on_a_convex_corner_keeps_the_corner_rule(force, law, gamma, s
     flt = simulate(scene, (0.5, 0.5), v, spin, max_collisions=3)
     assert ref.corner.values.tolist()[:2] == [0, 1] and float(ref.t[1]) == float(ref.t[0]) == 0.5
     assert_collisions_agree(ref, flt, scene, what="convex corner")
+
+
+def tilted_diamond(angle):
+    """The diamond turned by ``angle`` about its centre, in the box: vertices with irrational coordinates.
+
+    Returns the scene and the vertices; vertex 3 is the end of edge 2 and the start of edge 3.
+    """
+    c, s = math.cos(angle), math.sin(angle)
+    pts = [(0.5 - 0.25 * s, 0.5 + 0.25 * c), (0.5 + 0.25 * c, 0.5 + 0.25 * s),
+           (0.5 + 0.25 * s, 0.5 - 0.25 * c), (0.5 - 0.25 * c, 0.5 - 0.25 * s)]
+    segs = tuple(Segment(pts[i], pts[(i + 1) % 4], "left") for i in range(4))
+    box = tables.polygon([(-0.5, -0.5), (1.5, -0.5), (1.5, 1.5), (-0.5, 1.5)]).elements
+    return Scene(segs + box, law="specular", gamma=0.0), pts
+
+
+#: Turns of the diamond (rad): at 0.1 and 3.43 the 30-digit distance from the vertex to edge 2's
+#: line rounds to the table side, so without the rule the reference hit edge 2 at t = 1e-31; at
+#: 0.1, 0.285 and 1.21 the float64 distance does, and the engine hit edge 2 at t ~ 1e-16.
+ANGLES = [0.1, 0.285, 1.21, 3.43]
+
+
+@pytest.mark.parametrize("angle", ANGLES)
+def test_tilted_reflex_vertex_is_left_once_by_both_engines(angle):
+    """From the vertex on edge 3, into edge 3's table side and out of edge 2's line: edge 2 is not hit.
+
+    Vertices with irrational coordinates, so neither engine computes the vertex's distance from
+    edge 2's line as an exact zero: the rule (deflate the other piece of a reflex junction at
+    its vertex) must not depend on the rounding's sign, in the float64 engine and in the reference.
+    """
+    scene, pts = tilted_diamond(angle)
+    p = pts[3]
+    u3 = (pts[0][0] - p[0], pts[0][1] - p[1])  # along edge 3: on edge 2's wall side
+    bis = (-(pts[2][0] - p[0]) - u3[0], -(pts[2][1] - p[1]) - u3[1])  # away from the diamond
+    v = (u3[0] + 0.3 * bis[0], u3[1] + 0.3 * bis[1])
+    ref = resume_reference(scene, p, v, 0.0, 3, max_collisions=2, dps=DPS)
+    assert float(ref.t[0]) > 0.1, "the reference hit edge 2 at the start"
+    flt = simulate_many(scene, [p], [v], [0.0], start_elements=[3], record="log", max_collisions=2,
+                        scheduler="sync").isel(orbit=0)
+    assert float(flt.t[0]) > 0.1, "the float64 engine hit edge 2 at the start"
+    assert_collisions_agree(ref, flt, scene, what=f"tilted by {angle}")

@@ -179,11 +179,11 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_forc
 
     A segment or arc whose open end (reflex junction or free end) the flight
     starts at, on its line or circle (:func:`starts_at_open_end`), is deflated
-    too, from ``(x, y)`` like the copy just hit: its root ``t = 0`` is exact
-    (the reference's, ``noslipsim.reference``, drops it as ``t <= 0``), and
-    the table is locally the union of the two pieces' table sides, so having
-    just reflected into the other piece's side the particle is inside,
-    whichever side of this line rounding put it on.  Kept, the root is a hit
+    too, from ``(x, y)`` like the copy just hit (as :mod:`noslipsim.reference`
+    does): its root ``t = 0`` is exact, and the table is locally the union
+    of the two pieces' table sides, so having just reflected into the other
+    piece's side the particle is inside, whichever side of this line
+    rounding put it on.  Kept, the root is a hit
     a rounding-sized time later inside this end's band, and the particle
     reverses (a double hit).  Tested only for a segment or arc with an open
     end that would be the earliest hit so far, so other flights pay a
