@@ -14,11 +14,13 @@ import math
 
 from .geometry import (
     LINE_GATE,
+    TWO_PI,
     copy_shift,
     crossing_coefficients,
     crossing_slope,
     distance_rate,
     element_box,
+    extent_coordinate,
     extent_position,
     line_value_exact,
     signed_distance,
@@ -26,7 +28,7 @@ from .geometry import (
 from .jit import jit
 from .layout import ARC, END_END, END_START, LINE, SEGMENT
 from .roots import cubic_exits, linear_exit, quadratic_exit, quartic_exits
-from .tolerances import CONTACT_GAP, CONTACT_TOL
+from .tolerances import CONTACT_GAP, CONTACT_TOL, NONCONVEX_END_FACTOR
 
 INF = math.inf
 
@@ -129,6 +131,34 @@ def element_hit_time(kind, p, x, y, vx, vy, ax, ay, has_force, deflate, hi, exte
     return INF
 
 
+@jit
+def starts_at_open_end(kind, p, x, y, extent_tol):
+    """True if a flight from ``(x, y)`` starts on this segment's or arc's line or circle at an open end.
+
+    An *open* end is a reflex junction or a free end (end factor < 1,
+    :mod:`noslipsim._engine.junctions`); "at" and "on" are to the rounding of a hit
+    point, ``NONCONVEX_END_FACTOR * extent_tol`` (the band beyond such an
+    end), both along the element and across it.  Such a start is the shared
+    vertex of a reflex junction just hit on the other piece (or a free end's
+    tip): the element's crossing polynomial has the exact root ``t = 0`` there,
+    which rounding moves to either side, and which is no collision (see
+    :func:`hit_in_cell`).
+    """
+    band = extent_tol * NONCONVEX_END_FACTOR
+    if not abs(signed_distance(kind, p, x, y)) <= band:
+        return False
+    if kind == SEGMENT:
+        u = (x - p[0]) * p[4] + (y - p[1]) * p[5]
+        return ((p[END_START] < 1.0 and abs(u) <= band)
+                or (p[END_END] < 1.0 and abs(u - p[6]) <= band))
+    if kind == ARC:
+        ang = extent_coordinate(kind, p, x, y)
+        atol = band / p[2]
+        return ((p[END_START] < 1.0 and (ang <= atol or ang >= TWO_PI - atol))
+                or (p[END_END] < 1.0 and abs(ang - p[5]) <= atol))
+    return False
+
+
 @jit(inline="always")
 def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_force,
                 cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, shifted=True, ceiling=INF):
@@ -146,6 +176,19 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_forc
     copy is solved on the flight re-centred at ``t_in`` (when the particle
     enters the cell), so a long flight's crossing polynomial is formed at the
     scale of the cell and keeps its digits.  Ties go to the earlier copy.
+
+    A segment or arc whose open end (reflex junction or free end) the flight
+    starts at, on its line or circle (:func:`starts_at_open_end`), is deflated
+    too, from ``(x, y)`` like the copy just hit (as :mod:`noslipsim.reference`
+    does): its root ``t = 0`` is exact, and the table is locally the union
+    of the two pieces' table sides, so having just reflected into the other
+    piece's side the particle is inside, whichever side of this line
+    rounding put it on.  Kept, the root is a hit
+    a rounding-sized time later inside this end's band, and the particle
+    reverses (a double hit).  Tested only for a segment or arc with an open
+    end that would be the earliest hit so far, so other flights pay a
+    comparison (closed convex polygons: the end factors, read inline) and
+    change no bit.
     Returns ``(t, element, o1, o2)`` or ``(inf, -1, 0, 0)``.
     """
     xi, yi, vxi, vyi = advance(x, y, vx, vy, ax, ay, t_in, has_force)
@@ -188,6 +231,12 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_forc
                     continue
             t = t_in + element_hit_time(kinds[e], params[e], xi - sx, yi - sy, vxi, vyi, ax, ay,
                                         has_force, False, best_t - t_in, extent_tol)
+            if (t <= best_t and t < INF and (kinds[e] == SEGMENT or kinds[e] == ARC)
+                    and (params[e, END_START] < 1.0 or params[e, END_END] < 1.0)
+                    and starts_at_open_end(kinds[e], params[e], x - sx, y - sy, extent_tol)):
+                # the root t = 0 at an open end is exact: no collision (docstring; docs/algorithm.md, step 4)
+                t = element_hit_time(kinds[e], params[e], x - sx, y - sy, vx, vy, ax, ay, has_force,
+                                     True, best_t, extent_tol)
         if t < best_t or (best_e < 0 and t == best_t and t < INF):
             best_t = t
             best_e = e

@@ -39,9 +39,10 @@ derivatives (deflation, as for polynomials).
 """
 import math
 
+from .events import starts_at_open_end
 from .geometry import LINE_GATE, copy_shift, element_box, extent_position, lattice_coordinates, line_value_exact
 from .jit import jit
-from .layout import ARC, LINE, SEGMENT
+from .layout import ARC, END_END, END_START, LINE, SEGMENT
 from .roots import linear_exit, quadratic_exit
 from .thermostat import displacement, drag, state
 from .tolerances import ROOT_MAX_ITER
@@ -468,7 +469,9 @@ def element_hit(kind, p, fl, sx, sy, deflate, lo, hi, extent_tol, E):
 def hit_in_cell(kinds, params, copies, A, d1, d2, fl, E, cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, shifted):
     """Earliest hit in ``(t_in, hi]`` over the copies that reach cell ``(d1, d2)`` (:func:`events.hit_in_cell`).
 
-    The copy just hit is searched from ``t = 0`` with its root there removed.
+    The copy just hit is searched from ``t = 0`` with its root there removed, and
+    so is a segment or arc whose open end the flight starts at (the reflex-vertex
+    rule of :func:`events.hit_in_cell`).
     Copies out of reach in the window (farther than ``c (hi - t_in)`` from
     the position at ``t_in``) are skipped.  Returns ``(t, element, o1, o2)``,
     ``(inf, -1, 0, 0)`` (no hit) or ``(GAVE_UP, SEARCH_FAILED, 0, 0)`` (a search gave up).
@@ -498,6 +501,11 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, fl, E, cur_e, cur_o1, cur_o2, 
                         or ey0 + sy > yi + reach or ey1 + sy < yi - reach):
                     continue
             t = element_hit(kinds[e], params[e], fl, sx, sy, False, t_in, best_t, extent_tol, E)
+            if (0.0 <= t <= best_t and t < INF and (kinds[e] == SEGMENT or kinds[e] == ARC)
+                    and (params[e, END_START] < 1.0 or params[e, END_END] < 1.0)
+                    and starts_at_open_end(kinds[e], params[e], fl[0] - sx, fl[1] - sy, extent_tol)):
+                # the root t = 0 at an open end is exact: no collision (events.hit_in_cell)
+                t = element_hit(kinds[e], params[e], fl, sx, sy, True, 0.0, best_t, extent_tol, E)
         if t < 0.0:  # a search gave up: the earliest hit is unknown
             return GAVE_UP, SEARCH_FAILED, 0, 0
         if t < best_t or (best_e < 0 and t == best_t and t < INF):

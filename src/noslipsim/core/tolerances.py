@@ -15,6 +15,9 @@ EXTENT_TOL = 1e-11
 #: ``NONCONVEX_END_FACTOR * EXTENT_TOL`` (1e-14: rounding of a hit point), so
 #: a flight passing just beside such an end is not hit, while one through the
 #: exact vertex of a reflex corner still cannot slip between the two pieces.
+#: A flight that starts within this band of such an end, on the element's
+#: line or circle, has the element's root ``t = 0`` deflated
+#: (:func:`events.starts_at_open_end`): no double hit at a reflex vertex.
 NONCONVEX_END_FACTOR = 1e-3
 
 #: After a collision, another element whose signed distance at the new

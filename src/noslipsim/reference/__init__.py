@@ -15,7 +15,13 @@ Algorithm (one collision)
    ``sigma (|q(t) - c|^2 - r^2)`` for circles and arcs (degree <= 4,
    ``sigma = +1`` when the table lies outside the circle).  Exact zero leading
    coefficients are dropped; for the element just hit the exact root ``t = 0``
-   is removed by dividing by ``t``.
+   is removed by dividing by ``t``, and so it is for the other piece of a
+   reflex junction whose vertex was just hit (the start on its line within
+   ``tol``, the junction reflex as in step 6): that root is no collision (the
+   particle, having entered the union of the two table sides, is inside), and
+   at ``dps`` digits it rounds to either side of zero, so kept it could be a
+   hit ``10^-dps`` later and the particle would reverse (``docs/algorithm.md``,
+   step 4; the float64 engine has the same rule).
 2. *All real roots.*  Degree 1 and 2 in closed form (the cancellation-free
    quadratic formula), degree 3 and 4 by :func:`mpmath.polyroots`
    (Durand-Kerner on all complex roots, iterated at three times the working

@@ -369,7 +369,7 @@ class _EventLoop:
             return self.thermo_first_hit(copy, tol)
         x, y, vx, vy, ax, ay = self.flight()
         coeffs = copy.crossing(x, y, vx, vy, ax, ay)
-        deflate = copy is self.current  # the root t = 0 of the copy just hit is exact: divided out
+        deflate = self.deflated(copy, tol)
         for root in _exit_roots(self.ctx, coeffs, deflate, self.slope_floor):
             hx, hy = _flight(x, y, vx, vy, ax, ay, root)
             if copy.extent(hx, hy, tol) >= 0:
@@ -380,7 +380,7 @@ class _EventLoop:
         """:meth:`first_hit` for a thermostatted flight: the certified search of :mod:`.thermostat`."""
         ctx = self.ctx
         path = self.path()
-        deflate = copy is self.current
+        deflate = self.deflated(copy, tol)
         extent = lambda t: copy.extent(*path.position(t), tol) < 0  # noqa: E731  (True: reject the root)
         el = copy.el
         if isinstance(el, _StraightMp):
@@ -411,6 +411,22 @@ class _EventLoop:
         beyond = cx * path.fx + cy * path.fy + r + tol
         T = horizon(ctx, path, lambda T: path.along_field(T) and path.field_coordinate(T) > beyond)
         return first_exit(ctx, g, dg, bound, ctx.zero, T, skip=extent if el.theta0 is not None else None)
+
+    def deflated(self, copy, tol):
+        """Steps 1-3: whether ``copy``'s root ``t = 0`` is exact and divided out.
+
+        The copy just hit, and the other piece of a reflex junction just hit at
+        its vertex (the start lies on its line within ``tol``, :meth:`reflex`):
+        its root ``t = 0`` is exact too, and no collision (the particle, having
+        entered the union of the two table sides, is inside).  At the working
+        precision that root rounds to either side of zero; a positive one
+        would be a hit within ``tol`` of the piece's end, and the particle
+        would reverse (docs/algorithm.md, step 4: the float64 engine's rule).
+        """
+        if copy is self.current:
+            return True
+        return (self.current is not None and abs(copy.distance(self.x, self.y)) <= tol
+                and self.reflex(copy, tol))
 
     def relocate(self, copy, dt):
         """Step 5 (relocate): fly for ``dt`` and place the particle on ``copy``; the incoming velocity."""
