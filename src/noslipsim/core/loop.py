@@ -22,7 +22,7 @@ time is a running sum.
 import functools
 import math
 
-from .cells import FAR_CELLS, far_hit_point, walk_hit
+from .cells import FAR_CELLS, far_hit_point, far_hit_point_force, walk_hit
 from .disks import disk_lattice_kernel
 from .energy import SETTLE_EVERY, settle, state_energy
 from .events import advance, exact_line_hit, hit_in_cell, leaves_through_contact, slides_off
@@ -315,9 +315,14 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 sx, sy = copy_shift(A, o1, o2, lattice)
                 rx = hx - sx
                 ry = hy - sy
-                far = lattice and not has_force and max(abs(o1), abs(o2)) >= FAR_CELLS
-                if far:  # eps x flight length
-                    rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
+                # a hit FAR_CELLS or more from the flight's start: the plain point carries eps x flight length
+                far = (lattice and max(abs(o1), abs(o2)) >= FAR_CELLS
+                       and not (THERMO_ALWAYS or (THERMO_ANY and thermo)))
+                if far:
+                    if has_force:
+                        rx, ry = far_hit_point_force(kind, p, A, o1, o2, x, y, vx, vy, ax, ay, t_hit)
+                    else:
+                        rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
                 px, py, nx, ny = place_on_element(kind, p, rx, ry)
                 if THERMO_ALWAYS or (THERMO_ANY and thermo):
                     if WALLS and p[LONG_WALL] != 0.0:
@@ -334,9 +339,14 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 if lattice:  # re-base onto the cell that now holds the particle
                     k1, k2 = nearest_cell(B, x, y)
                     if k1 != 0 or k2 != 0:
-                        dx, dy = lattice_shift(A, k1, k2)
-                        x -= dx
-                        y -= dy
+                        if far:  # px + (o - k) a: the plain px + sx - k a carries eps |sx|, the flight's length
+                            dx, dy = lattice_shift(A, o1 - k1, o2 - k2)
+                            x = px + dx
+                            y = py + dy
+                        else:
+                            dx, dy = lattice_shift(A, k1, k2)
+                            x -= dx
+                            y -= dy
                         m1 += k1
                         m2 += k2
                         o1 -= k1
