@@ -95,18 +95,18 @@ def _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
     t_in = 0.0
     ta = _face_time(a0, a1, 0.5 * s1, 0.0) if a1 != 0.0 else INF
     tb = _face_time(b0, b1, 0.5 * s2, 0.0) if b1 != 0.0 else INF
-    for _ in range(max_cells):
+    for k in range(max_cells):
+        if max(abs(d1), abs(d2)) >= FAR_CELLS:  # a long flight goes on out of line (the indices never turn back)
+            return _walk_straight_far(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, cur_e, cur_o1,
+                                      cur_o2, t_limit, extent_tol, max_cells - k, ceiling, s1, s2, d1, d2, t_in,
+                                      ta, tb)
         t_out = min(ta, tb)
-        if max(abs(d1), abs(d2)) < FAR_CELLS:
-            t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, 0.0, 0.0, False,
-                                       cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
-        else:
-            t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, 0.0, 0.0, False,
-                                           cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, ceiling)
+        t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, 0.0, 0.0, False,
+                                   cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
         if e >= 0:
-            return t, e, o1, o2, 0
+            return t, e, o1, o2, 0, False, 0.0, 0.0
         if t_out >= t_limit:
-            return INF, -1, 0, 0, 1
+            return INF, -1, 0, 0, 1, False, 0.0, 0.0
         if ta == t_out:
             d1 += s1
             ta = _face_time(a0, a1, d1 + 0.5 * s1, t_out)
@@ -114,7 +114,62 @@ def _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
             d2 += s2
             tb = _face_time(b0, b1, d2 + 0.5 * s2, t_out)
         t_in = t_out
-    return INF, -1, 0, 0, 2
+    return INF, -1, 0, 0, 2, False, 0.0, 0.0
+
+
+@jit  # not inlined: reached by few flights (as disks._disk_walk_far)
+def _walk_straight_far(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, cur_e, cur_o1, cur_o2, t_limit,
+                       extent_tol, max_cells, ceiling, s1, s2, d1, d2, t_in, ta, tb):
+    """:func:`_walk_straight` from its cell ``(d1, d2)`` on, ``FAR_CELLS`` or more from the start:
+    each cell's copies by :func:`far_hit_in_cell`."""
+    for _ in range(max_cells):
+        t_out = min(ta, tb)
+        t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, 0.0, 0.0, False,
+                                       cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, ceiling)
+        if e >= 0:
+            rx, ry = far_hit_point(kinds[e], params[e], A, o1, o2, x, y, vx, vy, t)
+            return t, e, o1, o2, 0, True, rx, ry
+        if t_out >= t_limit:
+            return INF, -1, 0, 0, 1, False, 0.0, 0.0
+        if ta == t_out:
+            d1 += s1
+            ta = _face_time(a0, a1, d1 + 0.5 * s1, t_out)
+        if tb == t_out:
+            d2 += s2
+            tb = _face_time(b0, b1, d2 + 0.5 * s2, t_out)
+        t_in = t_out
+    return INF, -1, 0, 0, 2, False, 0.0, 0.0
+
+
+@jit  # not inlined: reached by few flights
+def _walk_force_far(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2,
+                    t_limit, extent_tol, max_cells, ceiling, d1, d2, t_in):
+    """:func:`walk_hit`'s walk under a force from its cell ``(d1, d2)`` on, once it got ``FAR_CELLS`` or more
+    from the start: far cells' copies by :func:`far_hit_in_cell`, and the cells of a flight that turns back
+    within ``FAR_CELLS`` of its start by :func:`events.hit_in_cell`, as before it left."""
+    for _ in range(max_cells):
+        ta, sa = _strip_exit(a0, a1, a2, d1 - 0.5, d1 + 0.5, t_in)
+        tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
+        t_out = min(ta, tb)
+        if max(abs(d1), abs(d2)) < FAR_CELLS:
+            t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, True,
+                                       cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
+            if e >= 0:
+                return t, e, o1, o2, 0, False, 0.0, 0.0
+        else:
+            t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, True,
+                                           cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, ceiling)
+            if e >= 0:
+                rx, ry = far_hit_point_force(kinds[e], params[e], A, o1, o2, x, y, vx, vy, ax, ay, t)
+                return t, e, o1, o2, 0, True, rx, ry
+        if t_out >= t_limit:
+            return INF, -1, 0, 0, 1, False, 0.0, 0.0
+        if ta == t_out:
+            d1 += sa
+        if tb == t_out:
+            d2 += sb
+        t_in = t_out
+    return INF, -1, 0, 0, 2, False, 0.0, 0.0
 
 
 @jit
@@ -122,9 +177,13 @@ def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
              cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling=INF):
     """Earliest hit of a flight from ``(x, y)`` (relative to cell 0) in a periodic scene.
 
-    Returns ``(t, element, o1, o2, status)``: ``status`` 0 for a hit, 1 when the
+    Returns ``(t, element, o1, o2, status, far, rx, ry)``: ``status`` 0 for a hit, 1 when the
     walk passed ``t_limit`` without a hit, 2 when it crossed ``max_cells`` cells
-    without a hit (an endless free flight, reported as an escape).
+    without a hit (an endless free flight, reported as an escape).  ``far``: the hit was
+    found in a cell ``FAR_CELLS`` or more from the start, and ``(rx, ry)`` is then its point
+    relative to the copy hit, formed exactly (:func:`far_hit_point`,
+    :func:`far_hit_point_force`; the walk's far part is out of line, so the event loop
+    carries no code of it).
     ``ceiling``: the top of a bounded lattice relative to cell 0 (copies whose
     centre lies above it are skipped, :func:`events.hit_in_cell`); ``inf`` for none.
     """
@@ -140,26 +199,25 @@ def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
     d1 = 0
     d2 = 0
     t_in = 0.0
-    for _ in range(max_cells):
+    for k in range(max_cells):
+        if max(abs(d1), abs(d2)) >= FAR_CELLS:  # a long flight goes on out of line
+            return _walk_force_far(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, vy, ax, ay, cur_e,
+                                   cur_o1, cur_o2, t_limit, extent_tol, max_cells - k, ceiling, d1, d2, t_in)
         ta, sa = _strip_exit(a0, a1, a2, d1 - 0.5, d1 + 0.5, t_in)
         tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
         t_out = min(ta, tb)
-        if max(abs(d1), abs(d2)) < FAR_CELLS:
-            t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, True,
-                                       cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
-        else:
-            t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, True,
-                                           cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, ceiling)
+        t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, True,
+                                   cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
         if e >= 0:
-            return t, e, o1, o2, 0
+            return t, e, o1, o2, 0, False, 0.0, 0.0
         if t_out >= t_limit:
-            return INF, -1, 0, 0, 1
+            return INF, -1, 0, 0, 1, False, 0.0, 0.0
         if ta == t_out:
             d1 += sa
         if tb == t_out:
             d2 += sb
         t_in = t_out
-    return INF, -1, 0, 0, 2
+    return INF, -1, 0, 0, 2, False, 0.0, 0.0
 
 
 @jit

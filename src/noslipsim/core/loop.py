@@ -22,7 +22,7 @@ time is a running sum.
 import functools
 import math
 
-from .cells import FAR_CELLS, far_hit_point, far_hit_point_force, walk_hit
+from .cells import walk_hit
 from .disks import disk_lattice_kernel
 from .energy import SETTLE_EVERY, settle, state_energy
 from .events import advance, exact_line_hit, hit_in_cell, leaves_through_contact, slides_off
@@ -253,6 +253,9 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 extent_tol = EXTENT_TOL * length
                 remaining = max_time - t
                 t_level = INF
+                far = False  # a hit the lattice walk found FAR_CELLS or more from the start (cells.walk_hit)
+                frx = 0.0
+                fry = 0.0
                 if THERMO_ALWAYS or (THERMO_ANY and thermo):
                     fl = flight(x, y, vx, vy, ax, ay)
                     if stop_below > -INF:
@@ -277,9 +280,9 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                     if ceiling < INF and vy >= 0.0 and ay >= 0.0 and _above_top(params, y, ceiling - oy):
                         t_hit, e, o1, o2, status = INF, -1, 0, 0, 2  # rising above a bounded lattice for good
                     else:
-                        t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay,
-                                                            has_force, cur_e, cur_o1, cur_o2, limit, extent_tol,
-                                                            MAX_CELLS_PER_FLIGHT, ceiling - oy)
+                        t_hit, e, o1, o2, status, far, frx, fry = walk_hit(
+                            kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force, cur_e, cur_o1, cur_o2,
+                            limit, extent_tol, MAX_CELLS_PER_FLIGHT, ceiling - oy)
                     escape = status == 2 or (status == 1 and limit == INF)
                 else:
                     t_hit, e, o1, o2 = hit_in_cell(kinds, params, copies, A, 0, 0, x, y, vx, vy, ax, ay,
@@ -315,14 +318,9 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 sx, sy = copy_shift(A, o1, o2, lattice)
                 rx = hx - sx
                 ry = hy - sy
-                # a hit FAR_CELLS or more from the flight's start: the plain point carries eps x flight length
-                far = (lattice and max(abs(o1), abs(o2)) >= FAR_CELLS
-                       and not (THERMO_ALWAYS or (THERMO_ANY and thermo)))
-                if far:
-                    if has_force:
-                        rx, ry = far_hit_point_force(kind, p, A, o1, o2, x, y, vx, vy, ax, ay, t_hit)
-                    else:
-                        rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
+                if far:  # found FAR_CELLS or more from the start: the walk formed the point (eps x flight length)
+                    rx = frx
+                    ry = fry
                 px, py, nx, ny = place_on_element(kind, p, rx, ry)
                 if THERMO_ALWAYS or (THERMO_ANY and thermo):
                     if WALLS and p[LONG_WALL] != 0.0:
@@ -337,16 +335,20 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 x = px + sx
                 y = py + sy
                 if lattice:  # re-base onto the cell that now holds the particle
-                    k1, k2 = nearest_cell(B, x, y)
-                    if k1 != 0 or k2 != 0:
-                        if far:  # px + (o - k) a: the plain px + sx - k a carries eps |sx|, the flight's length
-                            dx, dy = lattice_shift(A, o1 - k1, o2 - k2)
-                            x = px + dx
-                            y = py + dy
-                        else:
+                    if far:  # from the hit seen from its copy: px + sx - k a would carry eps |sx|, the flight's length
+                        j1, j2 = nearest_cell(B, px, py)
+                        k1 = o1 + j1
+                        k2 = o2 + j2
+                        dx, dy = lattice_shift(A, j1, j2)
+                        x = px - dx
+                        y = py - dy
+                    else:
+                        k1, k2 = nearest_cell(B, x, y)
+                        if k1 != 0 or k2 != 0:
                             dx, dy = lattice_shift(A, k1, k2)
                             x -= dx
                             y -= dy
+                    if k1 != 0 or k2 != 0:
                         m1 += k1
                         m2 += k2
                         o1 -= k1
