@@ -27,10 +27,10 @@ from .roots import quadratic_exit, quadratic_roots
 
 INF = math.inf
 
-#: A flight whose hit copy lies this many cells (or more) from its start is relocated by
-#: :func:`far_hit_point` (straight) or :func:`far_hit_point_force` (under a force), and the walk
-#: tests the copies of a cell this many cells (or more) from the start on the flight re-centred
-#: exactly (:func:`far_hit_in_cell`); nearer hits and cells keep the plain evaluation, bit for bit.
+#: The walk tests the copies of a cell this many cells (or more) from the flight's start on the
+#: flight re-centred exactly (:func:`far_hit_in_cell`), and a hit found there is relocated by
+#: :func:`far_hit_point` (straight) or :func:`far_hit_point_force` (under a force); nearer cells
+#: and hits keep the plain evaluation, bit for bit.
 FAR_CELLS = 16
 
 
