@@ -10,14 +10,16 @@ entry).  The general lattice loop now forms both to twice the working precision 
 allows, as for straight flights (``tests/test_stress.py``, ``test_corridor_hit_precision_*``).
 
 Oracles: the exact first hit of the parabola (float inputs taken exactly, 50 digits): the
-disks of the row the flight climbs to, each solved as a quartic; cross-checked once against
+disks of the row the flight approaches, each solved as a quartic; cross-checked once against
 the 50-digit lattice reference (:func:`noslipsim.reference.simulate_reference`), whose walk
 visits every cell.  Tolerances are those of the straight corridor tests: the velocity after
-the hit within ``STEP_ULPS eps / sin(incidence)``, the hit point on the disk (its arclength
-``s``) within ``STEP_ULPS eps r / sin(incidence)``, the hit time a few ulps of itself.
-Measured (error / tolerance, the default cases): velocity <= 0.06, hit point <= 0.007; the
-same cases on main at b4489a3 (the plain evaluation): velocity up to 2.2e3 and hit point up
-to 140 times its tolerance, 3 to 2e3 from about 700 cells on.
+the hit within ``STEP_ULPS eps |v| / sin(incidence)``, the hit point on the disk (its
+arclength ``s``) within ``STEP_ULPS eps r / sin(incidence)``, the hit time a few ulps of
+itself.  Measured (error / tolerance, the default cases): velocity <= 0.009, hit point
+<= 0.007, time <= 1.1e-16 relative; the same cases on main at b4489a3 (the plain
+evaluation): velocity 2.7 to 2.1e4 and hit point 1.4 to 1.5e4 times its tolerance, time
+up to 8.4e-15 (the diagonal corridor), and a grazing flight's copy choice wrong in 6 of
+12 diagonal cases (it hit the disk it passes at ``r + 1e-13 .. 1e-12``).
 """
 import math
 
