@@ -229,11 +229,9 @@ def test_straight_grid_walk_matches_strip_walk(scene):
         args = (-1, 0, 0, 1e6, EXTENT_TOL * scene.scale, 10_000_000)
         straight = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, 0.0, 0.0, False, *args)
         twin = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, 0.0, 0.0, True, *args)
-        assert straight[1:6] == twin[1:6], (x, y, vx, vy, straight, twin)
+        assert straight[1:] == twin[1:], (x, y, vx, vy, straight, twin)
         if straight[4] == 0:
             assert straight[0] == pytest.approx(twin[0], rel=1e-12, abs=1e-12), (x, y, vx, vy)
-            # a hit found FAR_CELLS or more away: its point relative to the copy, formed exactly by each walk
-            assert straight[6:] == pytest.approx(twin[6:], abs=1e-14), (x, y, vx, vy, straight, twin)
             checked += 1
     assert checked > 2000
 

@@ -28,9 +28,10 @@ from .roots import quadratic_exit, quadratic_roots
 INF = math.inf
 
 #: The walk tests the copies of a cell this many cells (or more) from the flight's start on the
-#: flight re-centred exactly (:func:`far_hit_in_cell`), and a hit found there is relocated by
-#: :func:`far_hit_point` (straight) or :func:`far_hit_point_force` (under a force); nearer cells
-#: and hits keep the plain evaluation, bit for bit.
+#: flight re-centred exactly (:func:`far_hit_in_cell`), and a straight flight's hit found there is
+#: relocated by :func:`far_hit_point`; nearer cells and hits keep the plain evaluation, bit for bit.
+#: Under a force the hit point keeps the plain evaluation (eps x flight length): relocating it in
+#: the event loop, even a call never taken, cost the Galton board 30 % (benchmarks/RESULTS.md).
 FAR_CELLS = 16
 
 
@@ -104,9 +105,9 @@ def _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
         t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, 0.0, 0.0, False,
                                    cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
         if e >= 0:
-            return t, e, o1, o2, 0, False, 0.0, 0.0
+            return t, e, o1, o2, 0
         if t_out >= t_limit:
-            return INF, -1, 0, 0, 1, False, 0.0, 0.0
+            return INF, -1, 0, 0, 1
         if ta == t_out:
             d1 += s1
             ta = _face_time(a0, a1, d1 + 0.5 * s1, t_out)
@@ -115,7 +116,7 @@ def _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
             tb = _face_time(b0, b1, d2 + 0.5 * s2, t_out)
         t_in = t_out
     if k >= max_cells:
-        return INF, -1, 0, 0, 2, False, 0.0, 0.0
+        return INF, -1, 0, 0, 2
     return _walk_straight_far(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, cur_e, cur_o1, cur_o2,
                               t_limit, extent_tol, max_cells - k, ceiling, s1, s2, d1, d2, t_in, ta, tb)
 
@@ -130,10 +131,9 @@ def _walk_straight_far(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, c
         t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, 0.0, 0.0, False,
                                        cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, ceiling)
         if e >= 0:
-            rx, ry = far_hit_point(kinds[e], params[e], A, o1, o2, x, y, vx, vy, t)
-            return t, e, o1, o2, 0, True, rx, ry
+            return t, e, o1, o2, 0
         if t_out >= t_limit:
-            return INF, -1, 0, 0, 1, False, 0.0, 0.0
+            return INF, -1, 0, 0, 1
         if ta == t_out:
             d1 += s1
             ta = _face_time(a0, a1, d1 + 0.5 * s1, t_out)
@@ -141,7 +141,7 @@ def _walk_straight_far(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, c
             d2 += s2
             tb = _face_time(b0, b1, d2 + 0.5 * s2, t_out)
         t_in = t_out
-    return INF, -1, 0, 0, 2, False, 0.0, 0.0
+    return INF, -1, 0, 0, 2
 
 
 @jit  # not inlined: reached by few flights
@@ -158,21 +158,20 @@ def _walk_force_far(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, 
             t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, True,
                                        cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
             if e >= 0:
-                return t, e, o1, o2, 0, False, 0.0, 0.0
+                return t, e, o1, o2, 0
         else:
             t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, True,
                                            cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, ceiling)
             if e >= 0:
-                rx, ry = far_hit_point_force(kinds[e], params[e], A, o1, o2, x, y, vx, vy, ax, ay, t)
-                return t, e, o1, o2, 0, True, rx, ry
+                return t, e, o1, o2, 0
         if t_out >= t_limit:
-            return INF, -1, 0, 0, 1, False, 0.0, 0.0
+            return INF, -1, 0, 0, 1
         if ta == t_out:
             d1 += sa
         if tb == t_out:
             d2 += sb
         t_in = t_out
-    return INF, -1, 0, 0, 2, False, 0.0, 0.0
+    return INF, -1, 0, 0, 2
 
 
 @jit
@@ -180,13 +179,12 @@ def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
              cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling=INF):
     """Earliest hit of a flight from ``(x, y)`` (relative to cell 0) in a periodic scene.
 
-    Returns ``(t, element, o1, o2, status, far, rx, ry)``: ``status`` 0 for a hit, 1 when the
+    Returns ``(t, element, o1, o2, status)``: ``status`` 0 for a hit, 1 when the
     walk passed ``t_limit`` without a hit, 2 when it crossed ``max_cells`` cells
-    without a hit (an endless free flight, reported as an escape).  ``far``: the hit was
-    found in a cell ``FAR_CELLS`` or more from the start, and ``(rx, ry)`` is then its point
-    relative to the copy hit, formed exactly (:func:`far_hit_point`,
-    :func:`far_hit_point_force`; the walk's far part is out of line, so the event loop
-    carries no code of it).
+    without a hit (an endless free flight, reported as an escape).  Cells ``FAR_CELLS``
+    or more from the start are tested on the flight re-centred exactly there
+    (:func:`far_hit_in_cell`, out of line); the event loop forms such a hit's point
+    exactly for a straight flight (:func:`far_hit_point`).
     ``ceiling``: the top of a bounded lattice relative to cell 0 (copies whose
     centre lies above it are skipped, :func:`events.hit_in_cell`); ``inf`` for none.
     """
@@ -213,16 +211,16 @@ def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
         t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, True,
                                    cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
         if e >= 0:
-            return t, e, o1, o2, 0, False, 0.0, 0.0
+            return t, e, o1, o2, 0
         if t_out >= t_limit:
-            return INF, -1, 0, 0, 1, False, 0.0, 0.0
+            return INF, -1, 0, 0, 1
         if ta == t_out:
             d1 += sa
         if tb == t_out:
             d2 += sb
         t_in = t_out
     if k >= max_cells:
-        return INF, -1, 0, 0, 2, False, 0.0, 0.0
+        return INF, -1, 0, 0, 2
     return _walk_force_far(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, vy, ax, ay, cur_e,
                            cur_o1, cur_o2, t_limit, extent_tol, max_cells - k, ceiling, d1, d2, t_in)
 
@@ -356,35 +354,3 @@ def far_hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_
     if best_e < 0:
         return INF, -1, 0, 0
     return best_t, best_e, best_o1, best_o2
-
-
-@jit
-def far_hit_point_force(kind, p, A, o1, o2, x, y, vx, vy, ax, ay, t):
-    """:func:`far_hit_point` for a flight under the constant acceleration ``a``.
-
-    ``q + v t + a t^2/2 - (o1 a1 + o2 a2)`` is formed to twice the working
-    precision for the float ``t`` (:func:`flight_point_dd`), then moved along
-    the flight to the element's exit root nearest to it: the crossing
-    polynomial re-centred at that point (velocity ``u = v + a t``) is formed
-    at the element's scale, and over the step (``eps t`` or so) its cubic and
-    quartic terms are below rounding, so the exit root of its quadratic part
-    is taken (a line's: one Newton step).  The result lies on the element to
-    rounding, wherever the flight started.
-    """
-    sxh, sxl, syh, syl = lattice_shift_dd(A, o1, o2)
-    xh, xl = flight_point_dd(x, vx, ax, t, True)
-    yh, yl = flight_point_dd(y, vy, ay, t, True)
-    rx = minus_shift_dd(xh, xl, sxh, sxl)
-    ry = minus_shift_dd(yh, yl, syh, syl)
-    ux = vx + ax * t
-    uy = vy + ay * t
-    if kind == LINE or kind == SEGMENT:
-        rate = ux * p[2] + uy * p[3]
-        step = -line_value(kind, p, rx, ry) / rate if rate != 0.0 else 0.0
-    else:
-        c0, c1, c2 = crossing_coefficients(kind, p, rx, ry, ux, uy, ax, ay)[:3]
-        n, r1, r2 = quadratic_roots(c0, c1, c2)
-        step = 0.0
-        if n == 2:
-            step = r1 if c2 > 0.0 else r2  # the exit root (the polynomial falls through it)
-    return flight_position(rx, ry, ux, uy, ax, ay, step)

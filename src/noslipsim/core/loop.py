@@ -22,7 +22,7 @@ time is a running sum.
 import functools
 import math
 
-from .cells import walk_hit
+from .cells import FAR_CELLS, far_hit_point, walk_hit
 from .disks import disk_lattice_kernel
 from .energy import SETTLE_EVERY, settle, state_energy
 from .events import advance, exact_line_hit, hit_in_cell, leaves_through_contact, slides_off
@@ -253,9 +253,6 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 extent_tol = EXTENT_TOL * length
                 remaining = max_time - t
                 t_level = INF
-                far = False  # a hit the lattice walk found FAR_CELLS or more from the start (cells.walk_hit)
-                frx = 0.0
-                fry = 0.0
                 if THERMO_ALWAYS or (THERMO_ANY and thermo):
                     fl = flight(x, y, vx, vy, ax, ay)
                     if stop_below > -INF:
@@ -280,9 +277,9 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                     if ceiling < INF and vy >= 0.0 and ay >= 0.0 and _above_top(params, y, ceiling - oy):
                         t_hit, e, o1, o2, status = INF, -1, 0, 0, 2  # rising above a bounded lattice for good
                     else:
-                        t_hit, e, o1, o2, status, far, frx, fry = walk_hit(
-                            kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force, cur_e, cur_o1, cur_o2,
-                            limit, extent_tol, MAX_CELLS_PER_FLIGHT, ceiling - oy)
+                        t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay,
+                                                            has_force, cur_e, cur_o1, cur_o2, limit, extent_tol,
+                                                            MAX_CELLS_PER_FLIGHT, ceiling - oy)
                     escape = status == 2 or (status == 1 and limit == INF)
                 else:
                     t_hit, e, o1, o2 = hit_in_cell(kinds, params, copies, A, 0, 0, x, y, vx, vy, ax, ay,
@@ -318,9 +315,11 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 sx, sy = copy_shift(A, o1, o2, lattice)
                 rx = hx - sx
                 ry = hy - sy
-                if far:  # found FAR_CELLS or more from the start: the walk formed the point (eps x flight length)
-                    rx = frx
-                    ry = fry
+                # a straight flight's far hit: eps x flight length (under a force the plain point stays: the
+                # call alone, never taken, cost the Galton board 30 %; benchmarks/RESULTS.md)
+                far = lattice and not has_force and max(abs(o1), abs(o2)) >= FAR_CELLS
+                if far:
+                    rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
                 px, py, nx, ny = place_on_element(kind, p, rx, ry)
                 if THERMO_ALWAYS or (THERMO_ANY and thermo):
                     if WALLS and p[LONG_WALL] != 0.0:
