@@ -318,8 +318,10 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 sx, sy = copy_shift(A, o1, o2, lattice)
                 rx = hx - sx
                 ry = hy - sy
+                # a straight flight's far hit: eps x flight length (under a force the plain point stays: the
+                # call alone, never taken, cost the Galton board 30 %; benchmarks/RESULTS.md)
                 far = lattice and not has_force and max(abs(o1), abs(o2)) >= FAR_CELLS
-                if far:  # eps x flight length
+                if far:
                     rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
                 px, py, nx, ny = place_on_element(kind, p, rx, ry)
                 if THERMO_ALWAYS or (THERMO_ANY and thermo):
@@ -335,11 +337,20 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 x = px + sx
                 y = py + sy
                 if lattice:  # re-base onto the cell that now holds the particle
-                    k1, k2 = nearest_cell(B, x, y)
+                    if far:  # from the hit seen from its copy: px + sx - k a would carry eps |sx|, the flight's length
+                        j1, j2 = nearest_cell(B, px, py)
+                        k1 = o1 + j1
+                        k2 = o2 + j2
+                        dx, dy = lattice_shift(A, j1, j2)
+                        x = px - dx
+                        y = py - dy
+                    else:
+                        k1, k2 = nearest_cell(B, x, y)
+                        if k1 != 0 or k2 != 0:
+                            dx, dy = lattice_shift(A, k1, k2)
+                            x -= dx
+                            y -= dy
                     if k1 != 0 or k2 != 0:
-                        dx, dy = lattice_shift(A, k1, k2)
-                        x -= dx
-                        y -= dy
                         m1 += k1
                         m2 += k2
                         o1 -= k1
