@@ -22,6 +22,7 @@ from noslipsim.analysis.tangent import step_entries
 from noslipsim.core import layout
 from noslipsim.core.laws import collide
 from noslipsim.core.loop import orbit_kernel
+from noslipsim.core.variant import GENERAL
 from noslipsim.reference import simulate_reference
 
 DISK = 1 / math.sqrt(2)
@@ -92,6 +93,17 @@ def test_specular_elements_on_a_noslip_scene_are_the_specular_table():
     out_o, rec_o = log_of(overridden, 2000)
     out_s, rec_s = log_of(spec, 2000)
     assert np.array_equal(bits(out_o), bits(out_s)) and np.array_equal(bits(rec_o), bits(rec_s))
+
+
+@pytest.mark.parametrize("g", [0.0, 1.0])
+def test_mixed_variant_bitwise_identical_to_general(g):
+    """The mixed table's own variant (every flag fixed) against the general path (law = PER_ELEMENT at run time)."""
+    scene = mixed_cell(g)
+    own = kernel_table(scene).variant(layout.RECORD_LOG)
+    assert own[7] is True and own[1] is True and own[4] is False
+    out_o, rec_o = log_of(scene, 5000)
+    out_g, rec_g = log_of(scene, 5000, flags=GENERAL)
+    assert np.array_equal(bits(out_o), bits(out_g)) and np.array_equal(bits(rec_o), bits(rec_g))
 
 
 # ----------------------------------------------------------------------------- each collision by its element's law
