@@ -11,6 +11,7 @@ engine agrees with the high-precision twin; the scene file round-trips and bad
 law names are refused by name.
 """
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -239,6 +240,19 @@ def test_scene_file_round_trip(tmp_path):
     # shifted copies (lattices, canonical forms) keep it
     assert Circle((0, 0), 0.4, law="specular").shifted(1.0, 2.0).law == "specular"
     assert scene.replace(law="specular").element_laws == ("specular",) * 7  # the disk followed the scene
+
+
+def test_the_docs_example_is_the_mixed_cell():
+    """docs/scenes.md's example of per-element laws: the cell of this file, vertices rounded."""
+    text = (Path(__file__).resolve().parents[1] / "docs" / "scenes.md").read_text(encoding="utf-8")
+    block = text.split("## Per-element laws", 1)[1].split("```yaml", 1)[1].split("```", 1)[0]
+    doc = Scene.from_yaml(block)
+    cell = mixed_cell(1.0)
+    assert doc.element_laws == cell.element_laws and doc.mixed_laws
+    assert math.isclose(doc.gamma, cell.gamma, rel_tol=1e-15, abs_tol=0)
+    assert doc.force == cell.force
+    for a, b in zip(doc.elements, cell.elements, strict=True):
+        np.testing.assert_allclose(a.params(), b.params(), rtol=0, atol=1e-15)
 
 
 def test_mixed_lattice_runs_the_general_loop():
