@@ -126,7 +126,7 @@ def _normals(scene, log):
 @pytest.mark.parametrize("g", [0.0, 1.0])
 def test_walls_reflect_and_keep_the_spin_the_disk_is_noslip(g):
     scene = mixed_cell(g)
-    out, log = log_of(scene, 5000)
+    _, log = log_of(scene, 5000)
     assert kernel_table(scene).variant(1)[7] is True and not kernel_table(scene).disk_lattice
     e = log[:, layout.LOG_ELEMENT].astype(int)
     wall, disk = e < 6, e == 6
@@ -174,7 +174,7 @@ def test_energy_kept_over_1e5_collisions():
 
 def test_energy_kept_without_force_and_with_the_thermostat():
     for scene in (mixed_cell(0.0), mixed_cell(1.0, thermostat="isokinetic")):
-        out, log = log_of(scene, 20_000)
+        _, log = log_of(scene, 20_000)
         kin = log[:, layout.LOG_VX] ** 2 + log[:, layout.LOG_VY] ** 2 + log[:, layout.LOG_W] ** 2
         (_, v, w) = START
         e0 = v[0] ** 2 + v[1] ** 2 + w ** 2
