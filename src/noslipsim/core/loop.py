@@ -146,8 +146,13 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
     ``params[e, layout.ELEMENT_LAW]``; ``None`` does so when the ``law``
     argument is ``layout.PER_ELEMENT``; ``False`` compiles none of it (its
     branches open with the constant ``MIXED_ANY``), so a table of one law runs
-    the code it ran before per-element laws existed, bit for bit.
+    the code it ran before per-element laws existed, bit for bit.  A mixed
+    table has a no-slip element, so ``mixed=True`` needs the spin
+    (``spin=False`` is the specular law everywhere, whatever the table says).
     """
+    if mixed and spin is False:
+        raise ValueError("orbit_kernel: a mixed table (mixed=True) has a no-slip element; spin=False would make "
+                         "every collision specular")
     if disks:
         if mixed:
             raise ValueError("orbit_kernel: the lean disk loop (disks=True) knows one law; a mixed table "
@@ -171,7 +176,8 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
     # per-element laws: compiled in only where a table may mix them
     MIXED_ANY = mixed is not False
     MIXED_ALWAYS = mixed is True
-    LAW_KEPT = SPIN_RT or MIXED_ANY  # the law argument is read at run time (per element: PER_ELEMENT)
+    # the law argument read at run time (PER_ELEMENT for a mixed table); spin=False is the specular law throughout
+    LAW_KEPT = SPIN_RT or (SPIN and MIXED_ANY)
 
     @jit
     def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, thermostat, x, y, vx, vy, w,
