@@ -207,6 +207,25 @@ def test_float_engine_agrees_with_reference_twin(g):
     assert not np.allclose(other.spin.values, flt.spin.values, atol=1e-3)
 
 
+def test_corner_of_a_noslip_and_a_specular_wall():
+    """A flight into the corner (1, 0) of the unit square: the no-slip floor (element 0) turns the spin, the
+    corner rule's bounce off the specular right wall (element 1) keeps it; the twin resolves it alike."""
+    square = tables.rectangle(1.0, 1.0)
+    walls = list(square.elements)
+    walls[1] = Segment(walls[1].p0, walls[1].p1, walls[1].side, law="specular")
+    scene = square.replace(elements=walls)
+    start = ((0.5, 0.5), (0.5, -0.5), -0.5)  # the floor keeps v_x > 0, so the particle leaves through the wall
+    flt = simulate(scene, *start, max_collisions=6)
+    ref = simulate_reference(scene, *start, max_collisions=6)
+    assert flt.element.values[:2].tolist() == [0, 1] and flt.corner.values[:2].tolist() == [0, 1]
+    np.testing.assert_array_equal(flt.element.values, ref.element.values)
+    np.testing.assert_array_equal(flt.corner.values, ref.corner.values)
+    for name in ("x", "y", "vx", "vy", "spin"):
+        np.testing.assert_allclose(flt[name].values, ref[name].values, rtol=0, atol=1e-12, err_msg=name)
+    assert float(flt.spin[0]) != -0.5 and float(flt.spin[1]) == float(flt.spin_in[1])  # floor turns, wall keeps
+    assert float(flt.vy[1]) > 0 and float(flt.vx[1]) < 0
+
+
 # ----------------------------------------------------------------------------- the tangent map
 def test_tangent_map_uses_each_elements_law():
     scene = mixed_cell(1.0)
