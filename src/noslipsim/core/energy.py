@@ -88,7 +88,7 @@ def settle_mode(potential, mixes, thermo):
 
     ``potential``: a force without thermostat (the energy has a potential
     part); ``mixes``: the law exchanges energy with the spin (no-slip,
-    ``gamma > 0``; in a table of mixed laws, some element is no-slip); ``thermo``: the isokinetic thermostat drives the flights.
+    ``gamma > 0``); ``thermo``: the isokinetic thermostat drives the flights.
     """
     if potential:
         return SETTLE_FORCE
