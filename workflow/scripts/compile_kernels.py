@@ -22,6 +22,8 @@ TABLES = {
     "plain+force": lambda law: (tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.2)], law=law, force=(0.0, -1.0)),
                                 (0.3, 0.5)),
     # walls of the other law around a disk of ``law``: a table of mixed laws (KernelTable.mixed)
+    "mixed": lambda law: (tables.closed_hex_cell(0.4, law=law, wall_law="specular" if law == "no-slip" else "no-slip"),
+                          (0.0, 0.45)),
     "mixed+force": lambda law: (tables.closed_hex_cell(0.4, law=law, force=(0.0, -1.0),
                                                        wall_law="specular" if law == "no-slip" else "no-slip"),
                                 (0.0, 0.45)),
