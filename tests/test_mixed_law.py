@@ -16,8 +16,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 from kernel_call import record_buffer, run_kernel
+from shadowing import one_step_references
 
 from noslipsim import Circle, Scene, Segment, simulate, tables
+from noslipsim._engine.canonical import canonical_form
 from noslipsim._engine.table import kernel_table
 from noslipsim.analysis.tangent import step_entries
 from noslipsim.core import layout
@@ -283,6 +285,26 @@ def test_mixed_lattice_runs_the_general_loop():
     mixed = one.replace(elements=(Circle((0.0, 0.0), 0.2), Circle((0.5, 0.5), 0.15, law="specular")))
     assert kernel_table(one).disk_lattice and not kernel_table(mixed).disk_lattice
     assert kernel_table(mixed).law == layout.PER_ELEMENT
+    # written off-centre, the canonical form (moved elements, translated scene) keeps each element's law
+    off = mixed.replace(elements=[e.shifted(0.3, 0.2) for e in mixed.elements])
+    form = canonical_form(off)
+    assert not form.identity and form.scene.element_laws == ("no-slip", "specular")
+    # the cell walk applies each copy's law: the float engine against the twin (over 5 collisions: chaos
+    # grows the rounding tenfold per collision here), then the twin restarted at each of 20 float collisions
+    q, v, w = (0.8, 0.0), (0.6, 0.8), 0.2
+    flt = simulate(off, q, v, w, max_collisions=20)
+    ref = simulate_reference(off, q, v, w, max_collisions=5)
+    assert set(flt.element.values[:5].tolist()) == {0, 1}
+    np.testing.assert_array_equal(flt.element.values[:5], ref.element.values)
+    for name in ("x", "y", "vx", "vy", "spin", "spin_in"):
+        np.testing.assert_allclose(flt[name].values[:5], ref[name].values, rtol=0, atol=1e-9, err_msg=name)
+    for k, step, _ in one_step_references(off, q, v, w, flt):
+        assert int(step.element[0]) == int(flt.element[k + 1]), k
+        for name in ("vx", "vy", "spin"):
+            assert abs(float(step[name][0]) - float(flt[name][k + 1])) <= 1e-9, (k, name)
+    assert k == 18
+    on_specular = flt.element.values == 1
+    np.testing.assert_array_equal(flt.spin.values[on_specular], flt.spin_in.values[on_specular])
     with pytest.raises(ValueError, match="lean disk loop"):
         orbit_kernel(False, True, True, 1, True, False, False, True)
     with pytest.raises(ValueError, match="spin=False"):
