@@ -44,7 +44,8 @@ LAWS = ("specular", "no-slip")
 CASES = [(name, law) for name in SCENES for law in LAWS]
 
 SLOTS = (0, 1, 2, 3, 5)  # force, spin, lattice, mode, walls (slot 4, disks, is another loop; slot 6, the
-# thermostat, is left to run time here and checked on a thermostatted scene in tests/test_thermostat_api.py)
+# thermostat, is left to run time here and checked on a thermostatted scene in tests/test_thermostat_api.py;
+# slot 7, per-element laws, likewise, on a mixed table in tests/test_mixed_law.py)
 ALL_SUBSETS = [s for k in range(1, len(SLOTS) + 1) for s in itertools.combinations(SLOTS, k)]
 STRESS_SUBSETS = ALL_SUBSETS
 
@@ -143,10 +144,11 @@ def test_comparison_sees_one_ulp_and_a_wrong_law():
 @pytest.mark.parametrize("name,law", CASES)
 def test_kernel_variant_asks_only_for_what_the_scene_needs(name, law, mode):
     scene = scene_of(name, law)[0]
-    force, spin, lattice, m, disks, walls, thermostat = kernel_table(scene).variant(mode)
+    force, spin, lattice, m, disks, walls, thermostat, mixed = kernel_table(scene).variant(mode)
     # exact bools: orbit_kernel tells "fixed False" from "read at run time" by identity (``is False``)
-    assert all(f is True or f is False for f in (force, spin, lattice, disks, walls, thermostat))
+    assert all(f is True or f is False for f in (force, spin, lattice, disks, walls, thermostat, mixed))
     assert thermostat is False  # no scene here has one: none compiles the thermostatted flights
+    assert mixed is False  # one law per table: none compiles per-element laws
     assert force is (name in ("circle_gravity", "galton", "wedge"))
     assert spin is (law == "no-slip")
     assert lattice is (name in ("galton", "sinai_torus"))

@@ -12,12 +12,18 @@ scene-file form of each is given in docs/scenes.md:
   scatterer, ``inside`` for a container;
 - ``{type: arc, center, radius, theta0, theta1, side}``: the CCW arc from
   ``theta0`` to ``theta1`` (radians, ``0 < theta1 - theta0 <= 2 pi``).
+
+Every element may also carry its own collision law, ``law: specular`` or
+``law: no-slip`` (keyword ``law=`` in Python); left out (``None``), the element
+takes the scene's law.  A table may so mix laws: specular walls around a
+no-slip scatterer.  The scene's ``gamma`` serves every no-slip element; a
+specular element keeps the spin.
 """
 from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -27,6 +33,31 @@ from ._validate import finite_float, finite_vector, no_unknown_keys, required
 from .core import layout
 
 TWO_PI = 2.0 * math.pi
+
+
+#: Collision law names (the spelling ``noslip`` is read as ``no-slip``).
+LAW_NAMES = {"no-slip": "no-slip", "noslip": "no-slip", "specular": "specular"}
+
+
+def law_name(value: Any, where: str = "law") -> str:
+    """The canonical name (``'no-slip'`` or ``'specular'``) of a collision law; ValueError naming ``where`` else."""
+    if not isinstance(value, str) or value not in LAW_NAMES:
+        raise ValueError(f"{where}: unknown collision law {value!r}; expected 'no-slip' or 'specular'")
+    return LAW_NAMES[value]
+
+
+def _element_law(value, where):
+    """``None`` (the scene's law) or the canonical name of an element's own law."""
+    if value is None:
+        return None
+    return law_name(value, f"{where}.law")
+
+
+def _with_law(d, law):
+    """An element's file mapping ``d`` with its own law added, if it has one."""
+    if law is not None:
+        d["law"] = law
+    return d
 
 
 def _set(obj, **values):
@@ -61,10 +92,15 @@ def _side(value, allowed, field):
 
 @dataclass(frozen=True)
 class Line:
-    """Infinite line through ``point``; ``normal`` is the unit normal into the table."""
+    """Infinite line through ``point``; ``normal`` is the unit normal into the table.
+
+    ``law`` (keyword only): the element's own collision law, ``'specular'`` or
+    ``'no-slip'``; ``None`` (the default) takes the scene's law.
+    """
 
     point: tuple
     normal: tuple
+    law: str | None = field(default=None, kw_only=True)
     kind = layout.LINE
     type_name = "line"
     finite = False
@@ -78,17 +114,18 @@ class Line:
         normal = finite_vector(self.normal, f"{where}.normal")
         if normal[0] == 0.0 and normal[1] == 0.0:
             raise ValueError(f"{where}.normal: must be nonzero")
-        _set(self, point=_floats(point), normal=unit_pair(*normal))
+        _set(self, point=_floats(point), normal=unit_pair(*normal), law=_element_law(self.law, where))
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any], where: str = "element") -> Line:
         """Build the element from its scene-file mapping (docs/scenes.md); errors name ``where`` and the field."""
-        no_unknown_keys(d, {"type", "point", "normal"}, where)
-        return _build(cls, where, point=required(d, "point", where), normal=required(d, "normal", where))
+        no_unknown_keys(d, {"type", "point", "normal", "law"}, where)
+        return _build(cls, where, point=required(d, "point", where), normal=required(d, "normal", where),
+                      law=d.get("law"))
 
     def to_dict(self) -> dict[str, Any]:
         """The element as its scene-file mapping (the inverse of :meth:`from_dict`)."""
-        return {"type": "line", "point": list(self.point), "normal": list(self.normal)}
+        return _with_law({"type": "line", "point": list(self.point), "normal": list(self.normal)}, self.law)
 
     def params(self) -> list[float]:
         """Kernel parameter row ``[px, py, nx, ny]`` (point; unit normal into the table; ``core/layout.py``)."""
@@ -112,16 +149,21 @@ class Line:
 
     def shifted(self, dx: float, dy: float) -> Line:
         """The same element translated by ``(dx, dy)``."""
-        return Line((self.point[0] + dx, self.point[1] + dy), self.normal)
+        return Line((self.point[0] + dx, self.point[1] + dy), self.normal, law=self.law)
 
 
 @dataclass(frozen=True)
 class Segment:
-    """One-sided segment ``p0 -> p1``; the table lies on ``side`` ('left' or 'right')."""
+    """One-sided segment ``p0 -> p1``; the table lies on ``side`` ('left' or 'right').
+
+    ``law`` (keyword only): the element's own collision law, ``'specular'`` or
+    ``'no-slip'``; ``None`` (the default) takes the scene's law.
+    """
 
     p0: tuple
     p1: tuple
     side: str = "left"
+    law: str | None = field(default=None, kw_only=True)
     kind = layout.SEGMENT
     type_name = "segment"
     finite = True
@@ -136,18 +178,18 @@ class Segment:
         if np.array_equal(p0, p1):
             raise ValueError(f"{where}: zero-length segment (p0 == p1 == {p0.tolist()})")
         _side(self.side, ("left", "right"), f"{where}.side")
-        _set(self, p0=_floats(p0), p1=_floats(p1))
+        _set(self, p0=_floats(p0), p1=_floats(p1), law=_element_law(self.law, where))
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any], where: str = "element") -> Segment:
         """Build the element from its scene-file mapping (docs/scenes.md); errors name ``where`` and the field."""
-        no_unknown_keys(d, {"type", "p0", "p1", "side"}, where)
+        no_unknown_keys(d, {"type", "p0", "p1", "side", "law"}, where)
         return _build(cls, where, p0=required(d, "p0", where), p1=required(d, "p1", where),
-                      side=d.get("side", "left"))
+                      side=d.get("side", "left"), law=d.get("law"))
 
     def to_dict(self) -> dict[str, Any]:
         """The element as its scene-file mapping (the inverse of :meth:`from_dict`)."""
-        return {"type": "segment", "p0": list(self.p0), "p1": list(self.p1), "side": self.side}
+        return _with_law({"type": "segment", "p0": list(self.p0), "p1": list(self.p1), "side": self.side}, self.law)
 
     def _frame(self):
         dx, dy = self.p1[0] - self.p0[0], self.p1[1] - self.p0[1]
@@ -182,7 +224,8 @@ class Segment:
 
     def shifted(self, dx: float, dy: float) -> Segment:
         """The same element translated by ``(dx, dy)``."""
-        return Segment((self.p0[0] + dx, self.p0[1] + dy), (self.p1[0] + dx, self.p1[1] + dy), self.side)
+        return Segment((self.p0[0] + dx, self.p0[1] + dy), (self.p1[0] + dx, self.p1[1] + dy), self.side,
+                       law=self.law)
 
     def side_distance(self, pts: np.ndarray) -> np.ndarray:
         """Signed distance to the supporting line, positive on the table side."""
@@ -199,11 +242,16 @@ class Segment:
 
 @dataclass(frozen=True)
 class Circle:
-    """Full circle; ``side='outside'`` is a scatterer, ``'inside'`` a container."""
+    """Full circle; ``side='outside'`` is a scatterer, ``'inside'`` a container.
+
+    ``law`` (keyword only): the element's own collision law, ``'specular'`` or
+    ``'no-slip'``; ``None`` (the default) takes the scene's law.
+    """
 
     center: tuple
     radius: float
     side: str = "outside"
+    law: str | None = field(default=None, kw_only=True)
     kind = layout.CIRCLE
     type_name = "circle"
     finite = False  # a full circle bounds the table globally, like a line
@@ -216,18 +264,19 @@ class Circle:
         center = finite_vector(self.center, f"{where}.center")
         radius = _radius(self.radius, where)
         _side(self.side, ("outside", "inside"), f"{where}.side")
-        _set(self, center=_floats(center), radius=radius)
+        _set(self, center=_floats(center), radius=radius, law=_element_law(self.law, where))
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any], where: str = "element") -> Circle:
         """Build the element from its scene-file mapping (docs/scenes.md); errors name ``where`` and the field."""
-        no_unknown_keys(d, {"type", "center", "radius", "side"}, where)
+        no_unknown_keys(d, {"type", "center", "radius", "side", "law"}, where)
         return _build(cls, where, center=required(d, "center", where),
-                      radius=required(d, "radius", where), side=d.get("side", "outside"))
+                      radius=required(d, "radius", where), side=d.get("side", "outside"), law=d.get("law"))
 
     def to_dict(self) -> dict[str, Any]:
         """The element as its scene-file mapping (the inverse of :meth:`from_dict`)."""
-        return {"type": "circle", "center": list(self.center), "radius": self.radius, "side": self.side}
+        return _with_law({"type": "circle", "center": list(self.center), "radius": self.radius, "side": self.side},
+                         self.law)
 
     @property
     def sigma(self) -> float:
@@ -253,7 +302,7 @@ class Circle:
 
     def shifted(self, dx: float, dy: float) -> Circle:
         """The same element translated by ``(dx, dy)``."""
-        return Circle((self.center[0] + dx, self.center[1] + dy), self.radius, self.side)
+        return Circle((self.center[0] + dx, self.center[1] + dy), self.radius, self.side, law=self.law)
 
     def side_distance(self, pts: np.ndarray) -> np.ndarray:
         """Signed distance ``sigma (|q - c| - r)`` to the circle, positive on the table side."""
@@ -263,13 +312,18 @@ class Circle:
 
 @dataclass(frozen=True)
 class Arc:
-    """CCW arc of a circle from ``theta0`` to ``theta1`` (radians); table on ``side``."""
+    """CCW arc of a circle from ``theta0`` to ``theta1`` (radians); table on ``side``.
+
+    ``law`` (keyword only): the element's own collision law, ``'specular'`` or
+    ``'no-slip'``; ``None`` (the default) takes the scene's law.
+    """
 
     center: tuple
     radius: float
     theta0: float
     theta1: float
     side: str = "inside"
+    law: str | None = field(default=None, kw_only=True)
     kind = layout.ARC
     type_name = "arc"
     finite = True
@@ -288,20 +342,21 @@ class Arc:
         if theta1 - theta0 > TWO_PI:
             raise ValueError(f"{where}: arc span {theta1 - theta0} exceeds 2 pi")
         _side(self.side, ("outside", "inside"), f"{where}.side")
-        _set(self, center=_floats(center), radius=radius, theta0=theta0, theta1=theta1)
+        _set(self, center=_floats(center), radius=radius, theta0=theta0, theta1=theta1,
+             law=_element_law(self.law, where))
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any], where: str = "element") -> Arc:
         """Build the element from its scene-file mapping (docs/scenes.md); errors name ``where`` and the field."""
-        no_unknown_keys(d, {"type", "center", "radius", "theta0", "theta1", "side"}, where)
+        no_unknown_keys(d, {"type", "center", "radius", "theta0", "theta1", "side", "law"}, where)
         return _build(cls, where, center=required(d, "center", where),
                       radius=required(d, "radius", where), theta0=required(d, "theta0", where),
-                      theta1=required(d, "theta1", where), side=d.get("side", "inside"))
+                      theta1=required(d, "theta1", where), side=d.get("side", "inside"), law=d.get("law"))
 
     def to_dict(self) -> dict[str, Any]:
         """The element as its scene-file mapping (the inverse of :meth:`from_dict`)."""
-        return {"type": "arc", "center": list(self.center), "radius": self.radius,
-                "theta0": self.theta0, "theta1": self.theta1, "side": self.side}
+        return _with_law({"type": "arc", "center": list(self.center), "radius": self.radius,
+                          "theta0": self.theta0, "theta1": self.theta1, "side": self.side}, self.law)
 
     @property
     def sigma(self) -> float:
@@ -328,7 +383,8 @@ class Arc:
 
     def shifted(self, dx: float, dy: float) -> Arc:
         """The same element translated by ``(dx, dy)``."""
-        return Arc((self.center[0] + dx, self.center[1] + dy), self.radius, self.theta0, self.theta1, self.side)
+        return Arc((self.center[0] + dx, self.center[1] + dy), self.radius, self.theta0, self.theta1, self.side,
+                   law=self.law)
 
     def endpoints(self) -> list[tuple[float, float]]:
         """The arc's two end points, at ``theta0`` and ``theta1``."""

@@ -6,7 +6,7 @@ A scene is the public way to define a billiard (docs/scenes.md)::
     gamma: 0.7071067811865476
     force: [0.0, -1.0]
     thermostat: isokinetic   # optional: fly the force with the Gaussian isokinetic thermostat
-    elements: [...]          # see noslipsim.elements
+    elements: [...]          # see noslipsim.elements; each may set its own law
     lattice: {a1: [1, 0], a2: [0, 1]}   # optional: periodic repetition
     top: 0.8660254037844386  # optional, with a lattice of circles: no copies above this height
 
@@ -32,7 +32,7 @@ from ._unit import unit_pair
 from ._validate import finite_vector, no_unknown_keys, nonnegative, read_yaml, required
 from .core import layout
 from .core.laws import noslip_coefficients
-from .elements import Arc, Circle, Line, Segment, element_from_dict
+from .elements import Arc, Circle, Line, Segment, element_from_dict, law_name
 
 LAWS = {"no-slip": layout.NOSLIP, "noslip": layout.NOSLIP, "specular": layout.SPECULAR}
 _SCENE_KEYS = {"law", "gamma", "force", "thermostat", "elements", "lattice", "top"}
@@ -41,9 +41,7 @@ THERMOSTATS = ("isokinetic",)
 
 
 def _law_name(law):
-    if not isinstance(law, str) or law not in LAWS:
-        raise ValueError(f"law: unknown collision law {law!r}; expected 'no-slip' or 'specular'")
-    return "no-slip" if LAWS[law] == layout.NOSLIP else "specular"
+    return law_name(law, "law")
 
 
 def _thermostat_name(thermostat):
@@ -184,10 +182,13 @@ class Scene:
     elements : sequence of Line, Segment, Circle, Arc
         Boundary pieces; their order fixes the ``element`` index in outputs.
     law : {'no-slip', 'specular'}
-        Collision law (docs/conventions.md).
+        Collision law (docs/conventions.md) of every element that does not
+        set its own (``Segment(..., law='specular')``: a mixed table, such as
+        specular walls around a no-slip scatterer; :attr:`element_laws`).
     gamma : float
         Mass-distribution constant ``gamma = sqrt(I / (m R^2))`` (nondimensional,
-        >= 0): 0 point mass, ``1/sqrt(2)`` uniform disk, 1 ring.
+        >= 0): 0 point mass, ``1/sqrt(2)`` uniform disk, 1 ring.  One per
+        scene: every no-slip element uses it, a specular one ignores it.
     force : (float, float)
         Constant acceleration ``(a_x, a_y)`` acting between collisions.
     thermostat : {None, 'isokinetic'}
@@ -342,8 +343,26 @@ class Scene:
     # ---------------------------------------------------------------- physics
     @property
     def law_code(self) -> int:
-        """The law as the kernels take it (``layout.SPECULAR`` or ``layout.NOSLIP``)."""
+        """The scene's law as the kernels take it (``layout.SPECULAR`` or ``layout.NOSLIP``).
+
+        The law of the elements that do not set their own; see :attr:`element_laws`.
+        """
         return LAWS[self.law]
+
+    @property
+    def element_laws(self) -> tuple[str, ...]:
+        """The collision law of each element: its own ``law``, or the scene's where it sets none."""
+        return tuple(self.law if e.law is None else e.law for e in self.elements)
+
+    @property
+    def mixed_laws(self) -> bool:
+        """True if the elements do not all collide by one law (specular walls around a no-slip disk)."""
+        return len(set(self.element_laws)) > 1
+
+    @property
+    def any_noslip(self) -> bool:
+        """True if some element collides by the no-slip law (then the spin takes part in the energy)."""
+        return "no-slip" in self.element_laws
 
     def flight_states(self, x: ArrayLike, y: ArrayLike, vx: ArrayLike, vy: ArrayLike,
                       tau: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

@@ -8,6 +8,7 @@ scene file.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -200,7 +201,7 @@ def hex_lorentz_cell(radius=0.3, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.
                  lattice={"a1": [1.0, 0.0], "a2": [0.5, math.sqrt(3.0) / 2.0]})
 
 
-def closed_hex_cell(radius=0.4, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0)):
+def closed_hex_cell(radius=0.4, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0), wall_law=None):
     """The hexagonal Wigner-Seitz cell of :func:`noslipsim.tables.hex_lorentz_cell`, closed by walls.
 
     Six segments (counter-clockwise, elements 0-5; vertices at ``(cos a, sin a)
@@ -208,12 +209,19 @@ def closed_hex_cell(radius=0.4, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.0
     at the top and one at the bottom) and the disk of ``radius`` at the origin
     (element 6).  Unlike the periodic cell, a particle cannot leave it, so its
     energy ``(|v|^2 + w^2)/2 - a.q`` bounds the kinetic energy under a force.
+    ``wall_law`` gives the six walls their own collision law (``None``: the
+    scene's ``law``): ``law='no-slip', wall_law='specular'`` is a no-slip disk
+    in a cell of specular walls (a mixed table, docs/scenes.md).
     """
     if not 0 < radius < 0.5:
         raise ValueError(f"radius: must lie in (0, 1/2) (the cell's inradius), got {radius}")
     a = math.pi / 6 + math.pi / 3 * np.arange(6)
-    return polygon(np.c_[np.cos(a), np.sin(a)] / math.sqrt(3.0), disks=[(0.0, 0.0, radius)], law=law,
-                   gamma=gamma, force=force)
+    scene = polygon(np.c_[np.cos(a), np.sin(a)] / math.sqrt(3.0), disks=[(0.0, 0.0, radius)], law=law,
+                    gamma=gamma, force=force)
+    if wall_law is None:
+        return scene
+    walls = tuple(dataclasses.replace(e, law=wall_law) if isinstance(e, Segment) else e for e in scene.elements)
+    return scene.replace(elements=walls)
 
 
 def galton_board(spacing=2.0, radius=0.5, gravity=1.0, *, law="no-slip", gamma=UNIFORM_DISK, top_row=None):

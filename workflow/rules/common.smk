@@ -31,9 +31,10 @@ def stability_common():
 # ---------------------------------------------------------------- kernels
 # Kernel variants each subject's simulations run, compiled by rule compile_kernel (one job per
 # variant) before the simulation jobs fan out, so that parallel jobs never compile one variant twice.
-# An entry is "table:law:record": table in {plain, plain+force, walls+force, lattice, lattice+force,
-# lattice+thermostat, disks} (disks: disk scatterers on a lattice, no force; lattice+thermostat: a lattice
-# under a force flown with the isokinetic thermostat), law in {no-slip, specular}, record in
+# An entry is "table:law:record": table in {plain, plain+force, mixed, mixed+force, walls+force, lattice,
+# lattice+force, lattice+thermostat, disks} (disks: disk scatterers on a lattice, no force; lattice+thermostat:
+# a lattice under a force flown with the isokinetic thermostat; mixed, mixed+force: a plain table of mixed laws
+# without and with a force, law the scatterer's, the walls the other one), law in {no-slip, specular}, record in
 # {none, log, portrait}: none for simulate_many's final states and counts, log for simulate() and
 # full collision logs (one kernel), portrait for phase-portrait points.
 KERNELS = {
@@ -45,10 +46,13 @@ KERNELS = {
     "orbits": ["plain:specular:log", "plain:no-slip:log", "walls+force:no-slip:log"],
     # portraits (lemon, polygons, closed hexagonal cell), first flights (none), Lyapunov runs and twin
     # orbits (log); the Sinai torus and the force-free hexagonal gas are "disks", the hexagonal gas under a
-    # force "lattice+force" (free fall) or "lattice+thermostat" (Figure 13's readings, Figure S3)
+    # force "lattice+force" (free fall) or "lattice+thermostat" (Figure 13's readings, Figure S3); the closed
+    # cell of specular walls around the no-slip disk (Figure S3's reading specular_walls) "mixed(+force)"
     "portraits": [f"{table}:{law}:{record}" for table, law in (("plain", "specular"), ("plain", "no-slip"),
                                                                 ("plain+force", "no-slip"),
-                                                                ("plain+force", "specular"), ("disks", "no-slip"),
+                                                                ("plain+force", "specular"),
+                                                                ("mixed", "no-slip"), ("mixed+force", "no-slip"),
+                                                                ("disks", "no-slip"),
                                                                 ("lattice+force", "no-slip"),
                                                                 ("lattice+thermostat", "no-slip"))
                   for record in ("portrait", "none", "log")],

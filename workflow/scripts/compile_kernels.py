@@ -21,6 +21,12 @@ TABLES = {
     "plain": lambda law: (tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.2)], law=law), (0.3, 0.5)),
     "plain+force": lambda law: (tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.2)], law=law, force=(0.0, -1.0)),
                                 (0.3, 0.5)),
+    # walls of the other law around a disk of ``law``: a table of mixed laws (KernelTable.mixed)
+    "mixed": lambda law: (tables.closed_hex_cell(0.4, law=law, wall_law="specular" if law == "no-slip" else "no-slip"),
+                          (0.0, 0.45)),
+    "mixed+force": lambda law: (tables.closed_hex_cell(0.4, law=law, force=(0.0, -1.0),
+                                                       wall_law="specular" if law == "no-slip" else "no-slip"),
+                                (0.0, 0.45)),
     # infinite walls (wedges, the half-plane) take the loop with the long-wall check (KernelTable.long_walls)
     "walls+force": lambda law: (tables.wedge(0.6, law=law), (0.0, 1.0)),
     "lattice": lambda law: (tables.sinai_torus(0.25, law=law).replace(

@@ -16,7 +16,8 @@ from noslipsim import plot
 from noslipsim.analysis import classify_regular
 
 ROWS = ("no force", "small force", "strong force")
-TABLES = {"closed": "a closed hexagonal cell (no-slip walls)", "specular": "a closed hexagonal cell (specular)",
+TABLES = {"closed": "a closed hexagonal cell (no-slip walls)",
+          "specular_walls": "a closed hexagonal cell (specular walls)",
           "periodic": "the periodic hexagonal cell (free fall)",
           "thermostat": "the periodic hexagonal cell (isokinetic thermostat)"}
 

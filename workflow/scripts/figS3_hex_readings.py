@@ -17,10 +17,10 @@ drawn = plot.load_figure_data(snakemake.input.portraits)      # the reading Figu
 chosen = drawn.attrs["reading"]
 threshold = snakemake.params.threshold
 share, err, n = regular_share(ds.ftle.values, threshold)     # dims (reading, gamma, force)
-# specular keeps the law's colour; the three no-slip readings take series colours (plot.style)
-STYLE = {"closed": (SERIES_COLORS[0], "o"), "specular": (LAW_COLORS["specular"], "s"),
+# specular walls keep the specular law's colour; the other readings take series colours (plot.style)
+STYLE = {"closed": (SERIES_COLORS[0], "o"), "specular_walls": (LAW_COLORS["specular"], "s"),
          "periodic": (SERIES_COLORS[2], "^"), "thermostat": (SERIES_COLORS[1], "D")}
-LABEL = {"closed": "closed cell, no-slip walls", "specular": "closed cell, specular",
+LABEL = {"closed": "closed cell, no-slip walls", "specular_walls": "closed cell, specular walls",
          "periodic": "periodic cell, free fall", "thermostat": "periodic cell, isokinetic thermostat"}
 
 plot.use_style()

@@ -44,7 +44,9 @@ class KernelTable:
     jstart, jpts : ndarray
         Junction points per element (:mod:`.junctions`).
     law : int
-        ``layout.SPECULAR`` or ``layout.NOSLIP``.
+        ``layout.SPECULAR`` or ``layout.NOSLIP`` when every element collides by
+        that law; ``layout.PER_ELEMENT`` for a mixed table, whose collisions
+        take the law of the element hit (``params[:, layout.ELEMENT_LAW]``).
     c, s : float
         No-slip coefficients of the scene's gamma (``c^2 + s^2`` closest to 1).
     ax, ay : float
@@ -53,11 +55,15 @@ class KernelTable:
         Length scale of the table (largest coordinate magnitude of its elements).
     has_force, noslip, disk_lattice, long_walls : bool
         What the scene needs compiled in: cubic and quartic exits, the spin
-        update, the lean disk loop (:mod:`noslipsim.core.disks`), the long-wall
-        check (:func:`noslipsim.core.events.exact_line_hit`).
+        update (some element is no-slip), the lean disk loop
+        (:mod:`noslipsim.core.disks`), the long-wall check
+        (:func:`noslipsim.core.events.exact_line_hit`).
     thermostat : bool
         The force is flown with the Gaussian isokinetic thermostat
         (:mod:`noslipsim.core.thermostat`); false without a force.
+    mixed : bool
+        The elements do not all share one law: the loop reads each element's
+        (``layout.ELEMENT_LAW``); false compiles no code for it.
     top : float
         A bounded lattice's top (``Scene.top``, in the packed scene's
         coordinates): copies whose centre lies above it do not exist; ``inf``
@@ -85,19 +91,21 @@ class KernelTable:
     long_walls: bool
     thermostat: bool = False
     top: float = math.inf
+    mixed: bool = False
 
     def variant(self, mode):
         """The compile-time flags of the event loop for this table and record mode.
 
-        ``(force, spin, lattice, mode, disks, walls, thermostat)``, each an exact
-        bool (the record mode an int): a scene without force never pays for cubic
-        or quartic exits, a specular one for spin updates, a plain one for the
-        cell walk, ``RECORD_NONE`` for the recorder, a table without long walls
+        ``(force, spin, lattice, mode, disks, walls, thermostat, mixed)``, each an
+        exact bool (the record mode an int): a scene without force never pays for
+        cubic or quartic exits, a specular one for spin updates, a plain one for
+        the cell walk, ``RECORD_NONE`` for the recorder, a table without long walls
         for their exact check, a scene without the thermostat for thermostatted
-        flights (:func:`noslipsim.core.loop.orbit_kernel`).
+        flights, a table of one law for per-element laws
+        (:func:`noslipsim.core.loop.orbit_kernel`).
         """
         return (self.has_force, self.noslip, self.lattice, int(mode), self.disk_lattice, self.long_walls,
-                self.thermostat)
+                self.thermostat, self.mixed)
 
     @property
     def one_disk_per_cell(self):
@@ -141,17 +149,21 @@ def kernel_table(scene) -> KernelTable:
         A, B = (np.array(m) for m in lattice_matrix(scene.lattice))  # writable: the kernels' argument type
     placed = placed_copies(scene)
     kinds, params = _element_arrays(elements, placed, scale)
+    laws = [layout.NOSLIP if law == "no-slip" else layout.SPECULAR for law in scene.element_laws]
+    params[:, layout.ELEMENT_LAW] = laws
+    mixed = len(set(laws)) > 1
     jstart, jpts = junction_arrays(elements, placed, scale)
     c, s = scene.noslip_coefficients
     ax, ay = scene.force
     has_force = scene.force != (0.0, 0.0)
     return KernelTable(
         kinds=kinds, params=params, copies=copies, A=A, B=B, lattice=scene.lattice is not None,
-        jstart=jstart, jpts=jpts, law=scene.law_code,
+        jstart=jstart, jpts=jpts, law=layout.PER_ELEMENT if mixed else laws[0],
         c=c, s=s, ax=ax, ay=ay, scale=scale, has_force=has_force,
-        noslip=scene.law_code == layout.NOSLIP, disk_lattice=_disk_lattice(scene),
+        noslip=layout.NOSLIP in laws, disk_lattice=not mixed and _disk_lattice(scene),
         long_walls=any(flag != 0.0 for flag in params[:, layout.LONG_WALL]),
-        thermostat=has_force and scene.thermostat is not None, top=math.inf if scene.top is None else scene.top)
+        thermostat=has_force and scene.thermostat is not None, top=math.inf if scene.top is None else scene.top,
+        mixed=mixed)
 
 
 def _element_arrays(elements, placed, scale):
@@ -191,7 +203,8 @@ def _disk_lattice(scene):
     reaching into neighbouring ones; no two disks (lattice copies included)
     come within ``DISK_GAP`` of each other (relative to the cell's size).
     Such disks are convex and never touch, so the loop needs no deflation,
-    corner rule or extent test.
+    corner rule or extent test.  A table of mixed laws (:attr:`KernelTable.mixed`)
+    never takes it: that loop knows one law.
     """
     if scene.lattice is None or scene.force != (0.0, 0.0) or scene.top is not None:
         return False  # a bounded lattice runs the general loop, which knows the top

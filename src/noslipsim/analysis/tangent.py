@@ -111,7 +111,14 @@ def _chunk_entries(scene: Scene, log):
     E[0, 0], dvt_s = arrive(s0, vn0 * k0 * s0, (at0 * inv_vn0 - vt0 * k0) * s0)
     E[0, 1], dvt_w = arrive(0.0, 0.0, -w0 * inv_vn0)
     E[0, 2], dvt_v = arrive(0.0, 1.0, -vt0 * inv_vn0)
-    if scene.law_code == layout.NOSLIP:  # (dw, dv_t) -> T (dw, dv_t), T = [[-c, -s], [-s, c]]
+    if scene.mixed_laws:  # each collision by the law of its element: no-slip's T or specular's identity
+        c, s = scene.noslip_coefficients
+        noslip = np.array([law == "no-slip" for law in scene.element_laws])[cols[layout.LOG_ELEMENT, 1:]
+                                                                              .astype(np.int64)]
+        E[1, 0], E[2, 0] = np.where(noslip, -s * dvt_s, 0.0), np.where(noslip, c * dvt_s, dvt_s)
+        E[1, 1], E[2, 1] = np.where(noslip, -c - s * dvt_w, 1.0), np.where(noslip, -s + c * dvt_w, dvt_w)
+        E[1, 2], E[2, 2] = np.where(noslip, -s * dvt_v, 0.0), np.where(noslip, c * dvt_v, dvt_v)
+    elif scene.any_noslip:  # (dw, dv_t) -> T (dw, dv_t), T = [[-c, -s], [-s, c]]
         c, s = scene.noslip_coefficients
         E[1, 0], E[2, 0] = -s * dvt_s, c * dvt_s
         E[1, 1], E[2, 1] = -c - s * dvt_w, -s + c * dvt_w

@@ -11,7 +11,10 @@ ARC        cx, cy, r, sigma, theta0, span  (theta0 in [0, 2pi); CCW span in (0, 
 =========  ======================================================================
 
 Segments and arcs also carry, in columns ``END_START`` and ``END_END``, the
-factor by which ``EXTENT_TOL`` extends each end.
+factor by which ``EXTENT_TOL`` extends each end.  Every element carries its
+collision law in column ``ELEMENT_LAW`` (``SPECULAR`` or ``NOSLIP``, as a
+float): the scene's law unless the element sets its own; a kernel reads it
+only in a scene whose elements do not all share one law (``PER_ELEMENT``).
 """
 
 LINE = 0
@@ -19,7 +22,7 @@ SEGMENT = 1
 CIRCLE = 2
 ARC = 3
 
-N_PARAMS = 13
+N_PARAMS = 14
 
 #: Lines and segments: 1.0 where a hit can lie far from the wall's ``p0`` compared with the
 #: table's smallest feature, so its plain distance can cancel and the loop checks it
@@ -48,6 +51,11 @@ END_END = 9
 #: Collision laws.
 SPECULAR = 0
 NOSLIP = 1
+#: The kernels' ``law`` argument of a scene whose elements do not all share one law: each
+#: collision takes the law of the element hit, ``params[e, ELEMENT_LAW]``.
+PER_ELEMENT = 2
+#: Every element: its own collision law (``SPECULAR`` or ``NOSLIP``, as a float).
+ELEMENT_LAW = 13
 
 #: Stop codes returned by the event loop (see ``STOP_REASONS``).
 STOP_MAX_COLLISIONS = 0

@@ -30,8 +30,10 @@ from .geometry import copy_shift, lattice_shift, nearest_cell, place_on_element
 from .jit import SOURCE_STAMP, jit
 from .laws import collide
 from .layout import (
+    ELEMENT_LAW,
     LONG_WALL,
     NOSLIP,
+    PER_ELEMENT,
     RECORD_LOG,
     RECORD_NONE,
     SPECULAR,
@@ -100,13 +102,15 @@ def _above_top(params, y, top):
     return y > top + reach
 
 
-def kernel_flags(has_force, noslip, lattice, mode, disks=False, walls=False, thermostat=False):
+def kernel_flags(has_force, noslip, lattice, mode, disks=False, walls=False, thermostat=False, mixed=False):
     """The variant key for a scene: what its kernel needs, fixed at compile time."""
-    return bool(has_force), bool(noslip), bool(lattice), int(mode), bool(disks), bool(walls), bool(thermostat)
+    return (bool(has_force), bool(noslip), bool(lattice), int(mode), bool(disks), bool(walls), bool(thermostat),
+            bool(mixed))
 
 
 @functools.cache
-def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, walls=None, thermostat=None):
+def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, walls=None, thermostat=None,
+                 mixed=None):
     """The event loop compiled for one kind of scene: a scene pays only for what it needs.
 
     Each flag is a compile-time constant (``True``/``False``, or a record
@@ -136,10 +140,25 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
     ``force=False``) compiles no code of it: each of its branches opens with
     the compile-time constant ``THERMO_ANY``, which numba prunes before typing
     (and ``thermostat=True`` with ``force=True`` prunes the free fall likewise).
+
+    ``mixed=True`` (a table whose elements do not all share one law) gives each
+    collision, the corner rule's included, the law of the element hit,
+    ``params[e, layout.ELEMENT_LAW]``; ``None`` does so when the ``law``
+    argument is ``layout.PER_ELEMENT``; ``False`` compiles none of it (its
+    branches open with the constant ``MIXED_ANY``), so a table of one law runs
+    the code it ran before per-element laws existed, bit for bit.  A mixed
+    table has a no-slip element, so ``mixed=True`` needs the spin
+    (``spin=False`` is the specular law everywhere, whatever the table says).
     """
+    if mixed and spin is False:
+        raise ValueError("orbit_kernel: a mixed table (mixed=True) has a no-slip element; spin=False would make "
+                         "every collision specular")
     if disks:
+        if mixed:
+            raise ValueError("orbit_kernel: the lean disk loop (disks=True) knows one law; a mixed table "
+                             "(mixed=True) runs the general loop")
         return disk_lattice_kernel(spin, mode)
-    VARIANT = variant_code((force, spin, lattice, mode, disks, walls, thermostat))  # reported with every result
+    VARIANT = variant_code((force, spin, lattice, mode, disks, walls, thermostat, mixed))  # reported with results
     FORCE_RT = force is None
     FORCE = bool(force)
     SPIN_RT = spin is None
@@ -154,6 +173,11 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
     THERMO_ANY = force is not False and thermostat is not False
     THERMO_ALWAYS = force is True and thermostat is True  # no free fall compiled at all
     THERMO_RT = thermostat is None
+    # per-element laws: compiled in only where a table may mix them
+    MIXED_ANY = mixed is not False
+    MIXED_ALWAYS = mixed is True
+    # the law argument read at run time (PER_ELEMENT for a mixed table); spin=False is the specular law throughout
+    LAW_KEPT = SPIN_RT or (SPIN and MIXED_ANY)
 
     @jit
     def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, thermostat, x, y, vx, vy, w,
@@ -176,7 +200,9 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
             ``jpts[jstart[e]:jstart[e + 1]]``; the corner pass runs only for hits
             near one (:mod:`noslipsim.junctions`).
         law : int
-            ``SPECULAR`` or ``NOSLIP``; ``c, s`` are the no-slip coefficients.
+            ``SPECULAR`` or ``NOSLIP``, or ``PER_ELEMENT``: each collision by the
+            law of the element hit, ``params[e, ELEMENT_LAW]`` (a mixed table);
+            ``c, s`` are the no-slip coefficients.
         ax, ay : float
             Constant acceleration (force per unit mass).
         thermostat : bool
@@ -216,7 +242,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
             this code was compiled for (:func:`variant.report`).
         """
         has_force = (ax != 0.0 or ay != 0.0) if FORCE_RT else FORCE
-        law = law if SPIN_RT else (NOSLIP if SPIN else SPECULAR)
+        law = law if LAW_KEPT else (NOSLIP if SPIN else SPECULAR)
         lattice = lattice if LATTICE_RT else LATTICE
         mode = mode if MODE_RT else MODE
         # thermostatted flights keep |v| and w, collisions |v|^2 + w^2: no potential energy to keep
@@ -229,7 +255,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 potential = False
                 E = field(ax, ay)[0]
         # the energy to keep (energy.settle), twice the start's (gamma = 0 keeps the spin's apart, as specular)
-        mixes = law == NOSLIP and s != 0.0  # the spin takes part in the energy exchange
+        mixes = law != SPECULAR and s != 0.0  # the spin takes part in the energy exchange (some no-slip element)
         e0 = state_energy(vx, vy, w, mixes, ax, ay, x, y, potential)[0]
         how = settle_mode(potential, mixes, thermo)  # where a correction goes (energy.settle)
         nx = 0.0  # the last collision's normal, its tangent the pair a correction may go to
@@ -357,7 +383,11 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                         o2 -= k2
                         ox, oy = lattice_shift(A, m1, m2)
                         sx, sy = lattice_shift(A, o1, o2)
-                vx, vy, w_out = collide(law, c, s, vx_in, vy_in, w, nx, ny)
+                law_e = law
+                if MIXED_ANY:  # a mixed table: the law of the element hit
+                    if MIXED_ALWAYS or law == PER_ELEMENT:
+                        law_e = int(p[ELEMENT_LAW])
+                vx, vy, w_out = collide(law_e, c, s, vx_in, vy_in, w, nx, ny)
                 t += t_hit
                 if mode != RECORD_NONE:
                     n_rec = record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w_out, vx_in, vy_in, w,
@@ -390,7 +420,11 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                     nx, ny = place_on_element(kind, p, x - sx, y - sy)[2:]
                     vx_in = vx
                     vy_in = vy
-                    vx, vy, w_out = collide(law, c, s, vx_in, vy_in, w, nx, ny)
+                    law_e = law
+                    if MIXED_ANY:
+                        if MIXED_ALWAYS or law == PER_ELEMENT:
+                            law_e = int(p[ELEMENT_LAW])
+                    vx, vy, w_out = collide(law_e, c, s, vx_in, vy_in, w, nx, ny)
                     if mode != RECORD_NONE:
                         n_rec = record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w_out, vx_in, vy_in,
                                         w, kind, p, sx, sy, j, 1.0, nx, ny)

@@ -1,6 +1,6 @@
 """Kernel variants: the compile-time flags of the event loop, and the number a kernel reports them by.
 
-A variant is the tuple ``(force, spin, lattice, mode, disks, walls, thermostat)``
+A variant is the tuple ``(force, spin, lattice, mode, disks, walls, thermostat, mixed)``
 (:func:`loop.orbit_kernel`): each slot ``True``/``False`` (a record mode for
 ``mode``), or ``None`` for "read from the arguments at run time".  Every orbit
 kernel returns :func:`report` of the variant it was compiled for, a constant
@@ -11,26 +11,27 @@ compile cache, however it got there).
 from .jit import SOURCE_STAMP
 
 #: Names of the slots, in order.
-SLOTS = ("force", "spin", "lattice", "mode", "disks", "walls", "thermostat")
+SLOTS = ("force", "spin", "lattice", "mode", "disks", "walls", "thermostat", "mixed")
 #: The general path: every flag read at run time.
-GENERAL = (None, None, None, None, None, None, None)
+GENERAL = (None, None, None, None, None, None, None, None)
 #: The record modes a ``mode`` slot may hold (``layout.RECORD_*``).
 MODES = (0, 1, 2)
 
 _RUNTIME = 3  # digit of a slot left to run time
 
 
-def normalise(force=None, spin=None, lattice=None, mode=None, disks=None, walls=None, thermostat=None):
+def normalise(force=None, spin=None, lattice=None, mode=None, disks=None, walls=None, thermostat=None,
+              mixed=None):
     """The variant as the kernel it selects sees it.
 
-    The disk loop (``disks=True``) has no force, walks a lattice and has no
-    walls whatever the other slots say, so those slots are fixed there; a
-    loop without force has no thermostat.
+    The disk loop (``disks=True``) has no force, walks a lattice, has no
+    walls and one law whatever the other slots say, so those slots are fixed
+    there; a loop without force has no thermostat.
     """
     if disks:
-        return False, _flag(spin), True, _mode(mode), True, False, False
+        return False, _flag(spin), True, _mode(mode), True, False, False, False
     thermostat = False if force is False else _flag(thermostat)
-    return _flag(force), _flag(spin), _flag(lattice), _mode(mode), False, _flag(walls), thermostat
+    return _flag(force), _flag(spin), _flag(lattice), _mode(mode), False, _flag(walls), thermostat, _flag(mixed)
 
 
 def _flag(value):

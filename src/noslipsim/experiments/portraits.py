@@ -248,7 +248,7 @@ def sinai_islands_sweep(radii=(0.45, 0.4), gammas=GAMMAS_21, *,
 #: "Figure 13"): the table, its collision law and flight, and the element recorded (the disk).
 HEX_READINGS = {
     "closed": "closed hexagonal cell, no-slip walls and disk, free fall",
-    "specular": "closed hexagonal cell, specular walls and disk, free fall",
+    "specular_walls": "closed hexagonal cell, specular walls around a no-slip disk, free fall",
     "periodic": "periodic hexagonal cell (the Lorentz gas), no-slip disk, free fall",
     "thermostat": "periodic hexagonal cell (the Lorentz gas), no-slip disk, isokinetic thermostat",
 }
@@ -258,8 +258,9 @@ def hex_reading_scene(reading, radius, gamma, g):
     """``(scene, disk element)`` of one of :data:`HEX_READINGS` with the force ``(0, -g)``.
 
     ``closed``: :func:`noslipsim.tables.closed_hex_cell` (no-slip, element 6 is
-    the disk); ``specular``: the same cell with the specular law (the engine has
-    one law per scene, so the disk is specular too; ``gamma`` plays no part);
+    the disk); ``specular_walls``: the same cell with specular walls around the
+    same no-slip disk (a table of mixed laws, ``wall_law='specular'``): what the
+    walls add to the closed cell's structure;
     ``periodic``: :func:`noslipsim.tables.hex_lorentz_cell` (element 0);
     ``thermostat``: the same with ``thermostat = 'isokinetic'`` (the speed is
     kept, the force turns the heading; with no force the thermostat is inert:
@@ -268,9 +269,9 @@ def hex_reading_scene(reading, radius, gamma, g):
     if reading not in HEX_READINGS:
         raise ValueError(f"reading: expected one of {sorted(HEX_READINGS)}, got {reading!r}")
     force = (0.0, -g if g else 0.0)
-    if reading in ("closed", "specular"):
-        law = "specular" if reading == "specular" else "no-slip"
-        return tables.closed_hex_cell(radius, gamma=gamma, force=force, law=law), 6
+    if reading in ("closed", "specular_walls"):
+        wall_law = "specular" if reading == "specular_walls" else None
+        return tables.closed_hex_cell(radius, gamma=gamma, force=force, wall_law=wall_law), 6
     scene = tables.hex_lorentz_cell(radius, gamma=gamma, force=force)
     return (scene.replace(thermostat="isokinetic") if reading == "thermostat" else scene), 0
 
@@ -343,7 +344,7 @@ def hex_force_readings(gammas=(1 / math.sqrt(2), 1.0), forces=(0.0, 0.1, 0.5, 1.
 
     For each reading of :data:`HEX_READINGS`, gamma and force strength ``g``
     (force ``(0, -g)``), ``n_orbits`` starts on the disk uniform in the
-    invariant measure of the force-free map (``ds dv_t dw``; specular ``ds dp``;
+    invariant measure of the force-free map (``ds dv_t dw``: the disk is no-slip in every reading;
     the same scaled draws everywhere, as in Figure 13) and each orbit's
     finite-time exponent per collision over ``lyapunov_collisions`` collisions
     from a twin orbit (:func:`noslipsim.analysis.twin_lyapunov`).
@@ -387,9 +388,6 @@ def hex_force_readings(gammas=(1 / math.sqrt(2), 1.0), forces=(0.0, 0.1, 0.5, 1.
     for i, reading in enumerate(readings):
         for j, gm in enumerate(gammas):
             for k, g in enumerate(forces):
-                if reading == "specular" and j > 0:   # gamma plays no part in a specular table: the same orbits
-                    lam[i, j, k] = lam[i, 0, k]
-                    continue
                 scene, disk = hex_reading_scene(reading, radius, gm, g)
                 start = islands.interior_starts(scene, islands.uniform_reduced_states(scene, n_orbits, seed,
                                                                                      elements=[disk]))

@@ -48,7 +48,8 @@ Algorithm (one collision)
        w^+ = -c w - s v_t, \\quad v_t^+ = -s w + c v_t, \\quad v_n^+ = -v_n,
        \\qquad c = \\frac{1-\\gamma^2}{1+\\gamma^2}, \\; s = \\frac{2\\gamma}{1+\\gamma^2}
 
-   (no-slip); specular keeps ``v_t`` and ``w`` and reverses ``v_n``.
+   (no-slip); specular keeps ``v_t`` and ``w`` and reverses ``v_n``.  The law
+   is the element's own where it sets one (a mixed table), else the scene's.
 6. *Corner rule* (as documented in :mod:`noslipsim.core.loop`): every other
    element touched at the hit point (signed distance within ``tol``, in its
    extent within ``tol``: ends inclusive) whose supporting line or circle the

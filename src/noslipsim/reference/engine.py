@@ -208,7 +208,7 @@ class _EventLoop:
         self.ax, self.ay = f(scene.force[0]), f(scene.force[1])
         # the Gaussian isokinetic thermostat: the force steers, the speed stays (module thermostat)
         self.thermo = scene.thermostat is not None and scene.force != (0.0, 0.0)
-        self.noslip = scene.law == "no-slip"
+        self.noslip = [law == "no-slip" for law in scene.element_laws]  # each element's own law
         g = f(scene.gamma)
         self.c_law, self.s_law = (1 - g * g) / (1 + g * g), 2 * g / (1 + g * g)
         self.max_collisions = max_collisions
@@ -445,17 +445,21 @@ class _EventLoop:
 
     def resolve(self, copy, vx_in, vy_in, w_in, corner):
         """Step 5 (resolve): apply the collision law on ``copy`` to the incoming state and record the collision."""
-        self.vx, self.vy, self.w = self.collide(vx_in, vy_in, w_in, *copy.outward_normal(self.x, self.y))
+        self.vx, self.vy, self.w = self.collide(vx_in, vy_in, w_in, *copy.outward_normal(self.x, self.y),
+                                                noslip=self.noslip[copy.index])
         self.record(copy, vx_in, vy_in, w_in, corner)
         self.orbit.n_corner += corner
         self.current = copy
 
-    def collide(self, vx, vy, w, nx, ny):
-        """Step 5 (the law): the state after a collision with outward unit normal ``(nx, ny)``."""
+    def collide(self, vx, vy, w, nx, ny, noslip):
+        """Step 5 (the law): the state after a collision with outward unit normal ``(nx, ny)``.
+
+        ``noslip``: the law of the element hit (its own, or the scene's).
+        """
         tx, ty = -ny, nx  # t = J n, n outward
         vt = vx * tx + vy * ty
         vn = vx * nx + vy * ny
-        if self.noslip:
+        if noslip:
             vt, w = -self.s_law * w + self.c_law * vt, -self.c_law * w - self.s_law * vt
         vn = -vn
         return vt * tx + vn * nx, vt * ty + vn * ny, w
