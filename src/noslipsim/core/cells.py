@@ -18,7 +18,7 @@ face times.
 """
 import math
 
-from .events import element_hit_time, flight_position, hit_in_cell
+from .events import element_hit_time, hit_in_cell, window_box
 from .exact import lattice_shift_dd, two_prod, two_sum
 from .geometry import copy_shift, crossing_coefficients, element_box, lattice_coordinates, line_value
 from .jit import jit
@@ -309,20 +309,7 @@ def far_hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_
     xi = xh + xl
     yi = yh + yl
     bounded = hi < INF and has_force  # as in hit_in_cell: the Bezier hull of the arc over the window
-    bx0 = -INF
-    by0 = -INF
-    bx1 = INF
-    by1 = INF
-    if bounded:
-        span = hi - t_in
-        x2, y2 = flight_position(xi, yi, vxi, vyi, ax, ay, span)
-        x1 = xi + 0.5 * span * vxi
-        y1 = yi + 0.5 * span * vyi
-        margin = 1e-9 * (abs(xi) + abs(yi) + abs(x2) + abs(y2) + abs(x1) + abs(y1)) + extent_tol
-        bx0 = min(xi, x1, x2) - margin
-        by0 = min(yi, y1, y2) - margin
-        bx1 = max(xi, x1, x2) + margin
-        by1 = max(yi, y1, y2) + margin
+    bx0, by0, bx1, by1 = window_box(bounded, xi, yi, vxi, vyi, ax, ay, hi - t_in, extent_tol)
     best_t = hi
     best_e = -1
     best_o1 = 0

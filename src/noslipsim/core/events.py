@@ -160,6 +160,23 @@ def starts_at_open_end(kind, p, x, y, extent_tol):
 
 
 @jit(inline="always")
+def window_box(bounded, xi, yi, vxi, vyi, ax, ay, span, extent_tol):
+    """``(x0, y0, x1, y1)``: a box holding the flight from ``(xi, yi)`` over ``span`` (unbounded if not ``bounded``).
+
+    The arc lies in the hull of its Bezier control points (start, the
+    velocity's midpoint, end), so an element copy whose box misses this one
+    cannot be hit in the window; the margin covers the rounding of the points.
+    """
+    if not bounded:
+        return -INF, -INF, INF, INF
+    x2, y2 = flight_position(xi, yi, vxi, vyi, ax, ay, span)
+    x1 = xi + 0.5 * span * vxi
+    y1 = yi + 0.5 * span * vyi
+    margin = 1e-9 * (abs(xi) + abs(yi) + abs(x2) + abs(y2) + abs(x1) + abs(y1)) + extent_tol
+    return min(xi, x1, x2) - margin, min(yi, y1, y2) - margin, max(xi, x1, x2) + margin, max(yi, y1, y2) + margin
+
+
+@jit(inline="always")
 def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_force,
                 cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, shifted=True, ceiling=INF):
     """Earliest hit in ``(0, hi]`` over the element copies that reach cell ``(d1, d2)``.
@@ -196,20 +213,7 @@ def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_forc
     # copy whose box misses the hull's box cannot be hit in it (straight flights
     # skip the filter: their exit test is about as cheap)
     bounded = hi < INF and has_force
-    bx0 = -INF
-    by0 = -INF
-    bx1 = INF
-    by1 = INF
-    if bounded:
-        span = hi - t_in
-        x2, y2 = flight_position(xi, yi, vxi, vyi, ax, ay, span)
-        x1 = xi + 0.5 * span * vxi
-        y1 = yi + 0.5 * span * vyi
-        margin = 1e-9 * (abs(xi) + abs(yi) + abs(x2) + abs(y2) + abs(x1) + abs(y1)) + extent_tol
-        bx0 = min(xi, x1, x2) - margin
-        by0 = min(yi, y1, y2) - margin
-        bx1 = max(xi, x1, x2) + margin
-        by1 = max(yi, y1, y2) + margin
+    bx0, by0, bx1, by1 = window_box(bounded, xi, yi, vxi, vyi, ax, ay, hi - t_in, extent_tol)
     best_t = hi
     best_e = -1
     best_o1 = 0
