@@ -253,8 +253,35 @@ def _flight_arrays(scene, ds, refine=2):
     return x0, y0, vx, vy, np.maximum(tau, 0.0)
 
 
-def _straight_penetration(e, X, Y, VX, VY, T, ax, ay, tol):
-    """Per flight: deepest crossing of a line or segment inside the open flight (0 if none); absolute."""
+def _reflex_ends(elements):
+    """``{(element, end)}``: the ends (0: ``p0``, 1: ``p1``) of segments at a reflex junction.
+
+    A junction is reflex when the neighbouring segment sharing the end runs into this segment's
+    outer side (its other end lies strictly beyond this segment's line): the table is there the
+    union of the two pieces' table sides.
+    """
+    segs = [(i, e) for i, e in enumerate(elements) if e.type_name == "segment"]
+    out = set()
+    for i, e in segs:
+        _ux, _uy, nx, ny, _L = e._frame()
+        for end, P in enumerate((e.p0, e.p1)):
+            for j, f in segs:
+                if j == i or P not in (f.p0, f.p1):
+                    continue
+                Q = f.p1 if P == f.p0 else f.p0
+                if (Q[0] - e.p0[0]) * nx + (Q[1] - e.p0[1]) * ny < 0.0:
+                    out.add((i, end))
+    return out
+
+
+def _straight_penetration(e, X, Y, VX, VY, T, ax, ay, tol, open_ends=(False, False)):
+    """Per flight: deepest crossing of a line or segment inside the open flight (0 if none); absolute.
+
+    ``open_ends``: whether the segment's ``p0`` and ``p1`` are reflex ends.  A flight that crosses
+    the line at or beyond such an end within ``tol`` of the flight's start (a flight leaving the
+    reflex vertex it was reflected at, beside the other piece) misses nothing: the engine
+    divides that root out as the exact dynamics does (docs/algorithm.md, step 4).
+    """
     if e.type_name == "line":
         (px, py), (nx, ny) = e.point, e.normal
         ux = uy = L = None
@@ -285,7 +312,13 @@ def _straight_penetration(e, X, Y, VX, VY, T, ax, ay, tol):
         hx = X + VX * te + 0.5 * ax * te ** 2
         hy = Y + VY * te + 0.5 * ay * te ** 2
         u = (hx - px) * ux + (hy - py) * uy
-        within = (u >= -tol[hit]) & (u <= L + tol[hit]) if np.ndim(tol) else (u >= -tol) & (u <= L + tol)
+        tl = tol[hit] if np.ndim(tol) else tol
+        within = (u >= -tl) & (u <= L + tl)
+        at_start = np.hypot(VX, VY) * te <= tl  # crossed as the flight leaves its start
+        if open_ends[0]:
+            within &= ~((u <= 0.0) & at_start)
+        if open_ends[1]:
+            within &= ~((u >= L) & at_start)
         hit, T, g0, g1, te = hit[within], T[within], g0[within], g1[within], te[within]
         if not len(hit):
             return out
@@ -396,6 +429,7 @@ def flight_penetration(scene, ds, samples=6, chunk=500_000):
         return 0.0
     flights = _flight_arrays(scene, ds)
     ax, ay = scene.force
+    reflex = _reflex_ends(scene.elements) if scene.lattice is None else set()
     if scene.lattice is None:
         copies = [e for _, e in _element_copies(scene)]
     else:
@@ -433,7 +467,8 @@ def flight_penetration(scene, ds, samples=6, chunk=500_000):
             L = length[sel]
             tol = 1e-11 * L
             if e.type_name in ("line", "segment"):
-                p = _straight_penetration(e, *args, tol)
+                i = scene.elements.index(e) if reflex else -1
+                p = _straight_penetration(e, *args, tol, ((i, 0) in reflex, (i, 1) in reflex))
             else:
                 p = _round_penetration(e, *args, tol, samples)
             worst = min(worst, float((p / L).min()))
