@@ -431,12 +431,12 @@ def flight_penetration(scene, ds, samples=6, chunk=500_000):
     ax, ay = scene.force
     reflex = _reflex_ends(scene.elements) if scene.lattice is None else set()
     if scene.lattice is None:
-        copies = [e for _, e in _element_copies(scene)]
+        copies = _element_copies(scene)
     else:
         from noslipsim._engine.lattice import lattice_matrix
         A, _ = lattice_matrix(scene.lattice)
-        copies = [e.shifted(*(A @ np.array([i, j], float)))
-                  for i in range(-2, 3) for j in range(-2, 3) for _, e in _element_copies(scene)]
+        copies = [(k, e.shifted(*(A @ np.array([i, j], float))))
+                  for i in range(-2, 3) for j in range(-2, 3) for k, e in _element_copies(scene)]
     worst = 0.0
     n = len(flights[-1])
     def batches():
@@ -452,7 +452,7 @@ def flight_penetration(scene, ds, samples=6, chunk=500_000):
         # the flight's length scale: the scene's, or its farthest point's
         length = np.maximum(scene.scale, np.max(np.abs([x0, y0, x1, y1]), axis=0))
         margin = 1e-9 * length
-        for e in copies:
+        for k, e in copies:
             if e.type_name == "line":
                 sel = slice(None)
             else:
@@ -467,8 +467,7 @@ def flight_penetration(scene, ds, samples=6, chunk=500_000):
             L = length[sel]
             tol = 1e-11 * L
             if e.type_name in ("line", "segment"):
-                i = scene.elements.index(e) if reflex else -1
-                p = _straight_penetration(e, *args, tol, ((i, 0) in reflex, (i, 1) in reflex))
+                p = _straight_penetration(e, *args, tol, ((k, 0) in reflex, (k, 1) in reflex))
             else:
                 p = _round_penetration(e, *args, tol, samples)
             worst = min(worst, float((p / L).min()))
