@@ -31,6 +31,7 @@ import numpy as np
 import pytest
 
 from noslipsim import simulate, tables
+from noslipsim.reference.roots import _polyroots
 
 EPS = float(np.finfo(float).eps)
 #: As tests/test_stress.py: rounding of ~eps conditioned by 1/sin(incidence).
@@ -89,7 +90,7 @@ def exact_first_hit(q, v, a, row):
             # |d + v t + a t^2/2|^2 - r^2, ascending powers
             coeffs = [dx * dx + dy * dy - r * r, 2 * (dx * vx + dy * vy), vx * vx + vy * vy + dx * ax + dy * ay,
                       vx * ax + vy * ay, (ax * ax + ay * ay) / 4]
-            for root in mp.polyroots(coeffs, maxsteps=400, extraprec=400, asc=True):
+            for root in _polyroots(mp, coeffs, 400, 400):
                 if abs(mp.im(root)) < mp.mpf(10) ** (-30) * abs(root) and mp.re(root) > 0:
                     t = mp.re(root)
                     if best is None or t < best[0]:
