@@ -201,13 +201,15 @@ def test_unit_cell_polygon_is_the_centred_ccw_cell():
 
 @pytest.mark.parametrize("scene", [tables.sinai_torus(0.25), tables.sinai_torus(0.02), tables.hex_lorentz_cell(0.3),
                                    tables.galton_board().replace(force=(0.0, 0.0))], ids=str)
-def test_straight_grid_walk_matches_strip_walk(scene):
+@pytest.mark.parametrize("t_limit", [1e5, pytest.param(1e6, marks=pytest.mark.stress)])
+def test_straight_grid_walk_matches_strip_walk(scene, t_limit):
     """The incremental walk of straight flights finds the hits of the strip-exit walk (its twin).
 
     The twin is the walk under a force, given a zero force: quadratic strip exits
     re-centred at each cell, and the element test at the force's degree.  Same
     element copy, same time to rounding; near-lattice directions and starts on
-    cell faces included.
+    cell faces included.  Corridor flights walk up to ``t_limit`` cells, far past
+    ``FAR_CELLS`` (the exactly re-centred far walks); ``-m stress`` walks 1e6.
     """
     from noslipsim.core.cells import walk_hit
     from noslipsim.core.tolerances import EXTENT_TOL
@@ -226,7 +228,7 @@ def test_straight_grid_walk_matches_strip_walk(scene):
             continue
         phi = rng.uniform(0, 2 * math.pi)
         vx, vy = directions[i % 5] if i % 3 == 0 else (math.cos(phi), math.sin(phi))
-        args = (-1, 0, 0, 1e6, EXTENT_TOL * scene.scale, 10_000_000)
+        args = (-1, 0, 0, t_limit, EXTENT_TOL * scene.scale, 10_000_000)
         straight = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, 0.0, 0.0, False, *args)
         twin = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, 0.0, 0.0, True, *args)
         assert straight[1:] == twin[1:], (x, y, vx, vy, straight, twin)
