@@ -24,7 +24,7 @@ import math
 
 from .cells import FAR_CELLS, far_hit_point, walk_hit
 from .disks import disk_lattice_kernel
-from .energy import SETTLE_ALL, SETTLE_EVERY, settle, settle_mode, state_energy
+from .energy import SETTLE_EVERY, settle, settle_mode, state_energy
 from .events import advance, exact_line_hit, hit_in_cell, leaves_through_contact, slides_off
 from .geometry import copy_shift, lattice_shift, nearest_cell, place_on_element
 from .jit import SOURCE_STAMP, jit
@@ -258,6 +258,8 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
         mixes = law != SPECULAR and s != 0.0  # the spin takes part in the energy exchange (some no-slip element)
         e0 = state_energy(vx, vy, w, mixes, ax, ay, x, y, potential)[0]
         how = settle_mode(potential, mixes, thermo)  # where a correction goes (energy.settle)
+        nx = 0.0  # the last collision's normal, its tangent the pair a correction may go to
+        ny = 0.0
         t = 0.0
         cur_e = start_element
         cur_o1 = 0
@@ -442,14 +444,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                     break
             if stop != STOP_MAX_COLLISIONS or n >= max_collisions:  # stopped inside the block, or done
                 break
-            # the last collision's normal, its tangent the pair a correction may go to: found again here
-            # from its element and point (kept live from the collision, it cost the pentagon 5 %)
-            lnx = 0.0
-            lny = 0.0
-            if mixes and how != SETTLE_ALL:
-                sx, sy = copy_shift(A, cur_o1, cur_o2, lattice)
-                lnx, lny = place_on_element(kinds[cur_e], params[cur_e], x - sx, y - sy)[2:]
-            vx, vy, w = settle(vx, vy, w, mixes, ax, ay, x + ox, y + oy, potential, e0, how, lnx, lny)
+            vx, vy, w = settle(vx, vy, w, mixes, ax, ay, x + ox, y + oy, potential, e0, how, nx, ny)
             block_end = min(max_collisions, n + SETTLE_EVERY)
         if lattice:  # the final state may lie in another cell (a stop in mid-flight)
             k1, k2 = nearest_cell(B, x, y)
