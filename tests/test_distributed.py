@@ -12,7 +12,6 @@ import subprocess
 import sys
 import threading
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -24,20 +23,22 @@ distributed = pytest.importorskip("distributed")
 
 GALTON = tables.galton_board()
 KW = dict(max_collisions=300, stop_below=-30.0, max_time=500.0)
-DASK = str(Path(sys.executable).with_name("dask"))
+#: The ``dask`` command of this interpreter (its console script may live beside another one, e.g. a venv over
+#: system site-packages).
+DASK = [sys.executable, "-m", "dask"]
 
 
 def start_cluster(folder, n_workers=2):
     """``dask scheduler`` and ``n_workers`` ``dask worker`` processes on 127.0.0.1; returns (address, processes)."""
     file = folder / "scheduler.json"
     logs = [open(folder / f"{name}.log", "w") for name in ["scheduler"] + [f"worker{i}" for i in range(n_workers)]]
-    procs = [subprocess.Popen([DASK, "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
+    procs = [subprocess.Popen([*DASK, "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
                                "--scheduler-file", str(file)], stdout=logs[0], stderr=subprocess.STDOUT)]
     deadline = time.monotonic() + 60
     while not file.exists() and time.monotonic() < deadline:
         time.sleep(0.1)
     for log in logs[1:]:
-        procs.append(subprocess.Popen([DASK, "worker", "--scheduler-file", str(file), "--host", "127.0.0.1",
+        procs.append(subprocess.Popen([*DASK, "worker", "--scheduler-file", str(file), "--host", "127.0.0.1",
                                        "--nthreads", "1", "--no-dashboard", "--memory-limit", "2GiB"],
                                       stdout=log, stderr=subprocess.STDOUT))
     address = json.loads(file.read_text())["address"]
