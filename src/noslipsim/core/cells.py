@@ -20,7 +20,7 @@ import math
 
 from .events import element_hit_time, hit_in_cell, window_box
 from .exact import lattice_shift_dd, two_prod, two_sum
-from .geometry import copy_shift, crossing_coefficients, element_box, lattice_coordinates, line_value
+from .geometry import copy_shift, crossing_coefficients, element_box, lattice_coordinates, line_value, nearest_cell
 from .jit import jit
 from .layout import LINE, SEGMENT
 from .roots import quadratic_exit, quadratic_roots
@@ -30,9 +30,15 @@ INF = math.inf
 #: The walk tests the copies of a cell this many cells (or more) from the flight's start on the
 #: flight re-centred exactly (:func:`far_hit_in_cell`), and a straight flight's hit found there is
 #: relocated by :func:`far_hit_point`; nearer cells and hits keep the plain evaluation, bit for bit.
-#: Under a force the hit point keeps the plain evaluation (eps x flight length): relocating it in
-#: the event loop, even a call never taken, cost the Galton board 30 % (benchmarks/RESULTS.md).
+#: Under a force a hit copy this far from the start is not relocated in the collision loop (a call
+#: there, even never taken, cost the Galton board 30 %, benchmarks/RESULTS.md): the loop stops
+#: short of the hit, and its block loop moves the flight's start exactly to within
+#: :data:`NEAR_CELLS` of the hit (:func:`far_move`), from where the walk finds it near.
 FAR_CELLS = 16
+#: :func:`far_move` puts a flight's start this many lattice units (or fewer, in each lattice
+#: coordinate) before its far hit: the hit copy is then a few cells from the start, well within
+#: :data:`FAR_CELLS`, for elements that reach the cells next to their own.
+NEAR_CELLS = 1.0
 
 
 @jit
@@ -341,3 +347,52 @@ def far_hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_
     if best_e < 0:
         return INF, -1, 0, 0
     return best_t, best_e, best_o1, best_o2
+
+
+@jit  # not inlined: called from the event loop's block loop, for far hits under a force only
+def far_move(A, B, x, y, vx, vy, ax, ay, t_hit):
+    """Move a flight under a force exactly to a time shortly before its far hit, re-based onto the cell reached.
+
+    The flight ``q(t) = (x, y) + v t + a t^2/2`` (relative to its start cell) hits an
+    element copy far away at ``t_hit``.  Its start is moved to ``t_move = t_hit - delta``,
+    where ``delta`` is the positive root of ``|a| delta^2 / 2 + |u| delta = L``, ``u = v + a t_hit``
+    the velocity at the hit and ``L = NEAR_CELLS / max(|b1|, |b2|)`` (``b1, b2`` the rows
+    of ``B = A^-1``).  Since ``q(t_hit - s) - q(t_hit) = -u s + a s^2/2``, every point of the
+    flight after ``t_move`` lies within ``L`` of the hit point, that is within
+    ``NEAR_CELLS`` in each lattice coordinate.  Before ``t_hit`` the flight is in free space
+    (``t_hit`` is its first hit), so the moved start is a start of the same flight, which
+    meets the same copy ``delta`` later.
+
+    The point is formed to twice the working precision (:func:`flight_point_dd`) and seen
+    from the cell ``(k1, k2)`` that holds it with the translation formed exactly
+    (:func:`exact.lattice_shift_dd`), so it carries a few ulps of the cell's size rather than
+    ``eps`` times the flight's length; the velocity is ``v + a t_move`` (a few ulps of itself).
+
+    Returns ``(t_move, k1, k2, x, y, vx, vy)``; ``t_move = 0`` (and the state as given) when the
+    whole flight already lies within ``L`` of its hit (an element spanning many cells, whose
+    copy is far though the hit is near): nothing to move.
+    """
+    ux = vx + ax * t_hit
+    uy = vy + ay * t_hit
+    u = math.sqrt(ux * ux + uy * uy)
+    acc = math.sqrt(ax * ax + ay * ay)
+    reach = NEAR_CELLS / max(math.sqrt(B[0, 0] * B[0, 0] + B[0, 1] * B[0, 1]),
+                             math.sqrt(B[1, 0] * B[1, 0] + B[1, 1] * B[1, 1]))
+    delta = 2.0 * reach / (u + math.sqrt(u * u + 2.0 * acc * reach))
+    if not delta < t_hit:
+        return 0.0, 0, 0, x, y, vx, vy
+    t_move = t_hit - delta
+    xh, xl = flight_point_dd(x, vx, ax, t_move, True)
+    yh, yl = flight_point_dd(y, vy, ay, t_move, True)
+    k1, k2 = nearest_cell(B, xh, yh)
+    sxh, sxl, syh, syl = lattice_shift_dd(A, k1, k2)
+    px = minus_shift_dd(xh, xl, sxh, sxl)
+    py = minus_shift_dd(yh, yl, syh, syl)
+    j1, j2 = nearest_cell(B, px, py)
+    if j1 != 0 or j2 != 0:  # the rounded point lay within rounding of a face: the exact one's cell
+        k1 += j1
+        k2 += j2
+        sxh, sxl, syh, syl = lattice_shift_dd(A, k1, k2)
+        px = minus_shift_dd(xh, xl, sxh, sxl)
+        py = minus_shift_dd(yh, yl, syh, syl)
+    return t_move, k1, k2, px, py, vx + ax * t_move, vy + ay * t_move

@@ -22,7 +22,7 @@ time is a running sum.
 import functools
 import math
 
-from .cells import FAR_CELLS, far_hit_point, walk_hit
+from .cells import FAR_CELLS, far_hit_point, far_move, walk_hit
 from .disks import disk_lattice_kernel
 from .energy import SETTLE_EVERY, settle, settle_mode, state_energy
 from .events import advance, exact_line_hit, hit_in_cell, leaves_through_contact, slides_off
@@ -58,6 +58,9 @@ from .tolerances import CONTACT_TOL, EXTENT_TOL, JUNCTION_GATE, MAX_CELLS_PER_FL
 from .variant import variant_code
 
 INF = math.inf
+#: The collision loop's stop for a far hit under a force (never returned: the block loop moves the
+#: flight's start towards the hit, :func:`cells.far_move`, and resumes the collision loop)
+_FAR_PENDING = -1
 
 
 @jit
@@ -178,6 +181,8 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
     MIXED_ALWAYS = mixed is True
     # the law argument read at run time (PER_ELEMENT for a mixed table); spin=False is the specular law throughout
     LAW_KEPT = SPIN_RT or (SPIN and MIXED_ANY)
+    # a far hit under a force, approached by moving the flight's start (cells.far_move): free fall on a lattice
+    FAR_MOVE = force is not False and lattice is not False and not THERMO_ALWAYS
 
     @jit
     def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, thermostat, x, y, vx, vy, w,
@@ -272,6 +277,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
         n_rec = 0
         n_corner = 0
         stop = STOP_MAX_COLLISIONS
+        keep_far = False  # the far hit found next is the one far_move could not approach: take it as it is
         # blocks of SETTLE_EVERY collisions (corner bounces may step past a block's end), the energy
         # measured and given back between two (energy.settle): the call stays out of the inner loop, whose
         # registers it would otherwise spill (1-2 % on the pentagon and the Sinai box, no-slip)
@@ -334,6 +340,14 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                     t = max_time
                     stop = STOP_MAX_TIME
                     break
+                # a far hit under a force: the plain point would carry eps x flight length; the block loop
+                # moves the start near it (out of this loop: a call here, never taken, cost the Galton board 30 %)
+                if FAR_MOVE and has_force and lattice and max(abs(o1), abs(o2)) >= FAR_CELLS and not (
+                        THERMO_ANY and thermo):
+                    if not keep_far:
+                        stop = _FAR_PENDING
+                        break
+                    keep_far = False
                 # relocate onto the element copy, then resolve the collision
                 if THERMO_ALWAYS or (THERMO_ANY and thermo):
                     hx, hy, vx_in, vy_in = thermo_state(fl, t_hit)
@@ -442,6 +456,26 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 if slides_off(kinds[cur_e], params[cur_e], x - sx, y - sy, vx, vy, aex, aey):
                     stop = STOP_GRAZING
                     break
+            if FAR_MOVE and stop == _FAR_PENDING:
+                # the flight's start moved exactly to shortly before its far hit (in free space, no collision),
+                # re-based onto the cell reached; the collision loop then finds the hit a few cells away
+                stop = STOP_MAX_COLLISIONS
+                t_move, k1, k2, x1, y1, vx1, vy1 = far_move(A, B, x, y, vx, vy, ax, ay, t_hit)
+                if t_move > 0.0:
+                    x = x1
+                    y = y1
+                    vx = vx1
+                    vy = vy1
+                    t += t_move
+                    m1 += k1
+                    m2 += k2
+                    ox, oy = lattice_shift(A, m1, m2)
+                    cur_e = -1  # in free space: no root at the start to deflate
+                    cur_o1 = 0
+                    cur_o2 = 0
+                else:  # the hit is already near (its copy far: an element spanning many cells)
+                    keep_far = True
+                continue
             if stop != STOP_MAX_COLLISIONS or n >= max_collisions:  # stopped inside the block, or done
                 break
             vx, vy, w = settle(vx, vy, w, mixes, ax, ay, x + ox, y + oy, potential, e0, how, nx, ny)
