@@ -58,9 +58,6 @@ from .tolerances import CONTACT_TOL, EXTENT_TOL, JUNCTION_GATE, MAX_CELLS_PER_FL
 from .variant import variant_code
 
 INF = math.inf
-#: The collision loop's stop for a far hit under a force (never returned: the block loop moves the
-#: flight's start towards the hit, :func:`cells.far_move`, and resumes the collision loop)
-_FAR_PENDING = -1
 
 
 @jit
@@ -277,7 +274,6 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
         n_rec = 0
         n_corner = 0
         stop = STOP_MAX_COLLISIONS
-        keep_far = False  # the far hit found next is the one far_move could not approach: take it as it is
         # blocks of SETTLE_EVERY collisions (corner bounces may step past a block's end), the energy
         # measured and given back between two (energy.settle): the call stays out of the inner loop, whose
         # registers it would otherwise spill (1-2 % on the pentagon and the Sinai box, no-slip)
@@ -315,6 +311,8 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                         t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay,
                                                             has_force, cur_e, cur_o1, cur_o2, limit, extent_tol,
                                                             MAX_CELLS_PER_FLIGHT, ceiling - oy)
+                    # status 2 with t_hit finite (a hit after the walk got FAR_CELLS from the start, under a
+                    # force) leaves as an escape: the block loop moves the start near the hit (far_move, below)
                     escape = status == 2 or (status == 1 and limit == INF)
                 else:
                     t_hit, e, o1, o2 = hit_in_cell(kinds, params, copies, A, 0, 0, x, y, vx, vy, ax, ay,
@@ -340,14 +338,6 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                     t = max_time
                     stop = STOP_MAX_TIME
                     break
-                # a far hit under a force: the plain point would carry eps x flight length; the block loop
-                # moves the start near it (out of this loop: a call here, never taken, cost the Galton board 30 %)
-                if FAR_MOVE and has_force and lattice and max(abs(o1), abs(o2)) >= FAR_CELLS and not (
-                        THERMO_ANY and thermo):
-                    if not keep_far:
-                        stop = _FAR_PENDING
-                        break
-                    keep_far = False
                 # relocate onto the element copy, then resolve the collision
                 if THERMO_ALWAYS or (THERMO_ANY and thermo):
                     hx, hy, vx_in, vy_in = thermo_state(fl, t_hit)
@@ -358,8 +348,8 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 sx, sy = copy_shift(A, o1, o2, lattice)
                 rx = hx - sx
                 ry = hy - sy
-                # a straight flight's far hit: eps x flight length (under a force the plain point stays: the
-                # call alone, never taken, cost the Galton board 30 %; benchmarks/RESULTS.md)
+                # a straight flight's far hit: eps x flight length (under a force no far hit comes here: the walk
+                # reports it as an escape with a finite time, and the block loop moves the start near it)
                 far = lattice and not has_force and max(abs(o1), abs(o2)) >= FAR_CELLS
                 if far:
                     rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
@@ -456,26 +446,25 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 if slides_off(kinds[cur_e], params[cur_e], x - sx, y - sy, vx, vy, aex, aey):
                     stop = STOP_GRAZING
                     break
-            if FAR_MOVE and stop == _FAR_PENDING:
-                # the flight's start moved exactly to shortly before its far hit (in free space, no collision),
-                # re-based onto the cell reached; the collision loop then finds the hit a few cells away
-                stop = STOP_MAX_COLLISIONS
-                t_move, k1, k2, x1, y1, vx1, vy1 = far_move(A, B, x, y, vx, vy, ax, ay, t_hit)
-                if t_move > 0.0:
-                    x = x1
-                    y = y1
-                    vx = vx1
-                    vy = vy1
+            if FAR_MOVE and stop == STOP_ESCAPE and t_hit < INF and has_force and lattice:
+                # a far hit under a force (walk status 2, t_hit finite): the plain hit point would carry eps x the
+                # flight's length.  The start moves exactly to shortly before the hit (in free space: no
+                # collision, no record), re-based onto the cell reached, and the collision loop finds the
+                # hit from there, near; or, with max_time before that, to max_time, where the orbit stops
+                remaining = max_time - t
+                t_move, k1, k2, x, y, vx, vy = far_move(A, B, x, y, vx, vy, ax, ay, t_hit, remaining)
+                m1 += k1
+                m2 += k2
+                ox, oy = lattice_shift(A, m1, m2)
+                cur_e = -1  # in free space: no root at the start to deflate
+                cur_o1 = 0
+                cur_o2 = 0
+                if t_move < remaining:  # on to the hit
                     t += t_move
-                    m1 += k1
-                    m2 += k2
-                    ox, oy = lattice_shift(A, m1, m2)
-                    cur_e = -1  # in free space: no root at the start to deflate
-                    cur_o1 = 0
-                    cur_o2 = 0
-                else:  # the hit is already near (its copy far: an element spanning many cells)
-                    keep_far = True
-                continue
+                    stop = STOP_MAX_COLLISIONS
+                    continue
+                t = max_time
+                stop = STOP_MAX_TIME
             if stop != STOP_MAX_COLLISIONS or n >= max_collisions:  # stopped inside the block, or done
                 break
             vx, vy, w = settle(vx, vy, w, mixes, ax, ay, x + ox, y + oy, potential, e0, how, nx, ny)
