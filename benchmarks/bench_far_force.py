@@ -6,6 +6,11 @@ Here: the paper's bounded Galton board (config/config.yaml; its orbits are the s
 both versions), both laws, and one 2.9e5-cell flight under a force (the far walk's cost per
 cell).  ``--before DIR`` as in bench_before_after.py (a copy named ``noslipsim_before``).
 Run: ``PYTHONPATH=src python benchmarks/bench_far_force.py --before /tmp/old/pkg``.
+
+The rounds of one process agree to a few percent, but processes differ by up to 20 % (where the
+loaded kernels land in memory is drawn per process): compare means over ten processes or more,
+against an A/A run (a copy of the old commit as the new package), with ``--clock cpu`` (process
+time, not wall time, on a shared host) and ``--only`` to time one case (benchmarks/RESULTS.md).
 """
 import argparse
 import importlib
@@ -22,6 +27,8 @@ import noslipsim as new
 ap = argparse.ArgumentParser()
 ap.add_argument("--before", required=True)
 ap.add_argument("--rounds", type=int, default=3)
+ap.add_argument("--clock", choices=("wall", "cpu"), default="wall", help="wall time or this process's CPU time")
+ap.add_argument("--only", default="", help="time only the cases whose name contains this")
 ARGS = ap.parse_args()
 sys.path.insert(0, os.path.abspath(ARGS.before))
 old = importlib.import_module("noslipsim_before")
@@ -29,6 +36,7 @@ for pkg in (old, new):
     importlib.import_module(pkg.__name__ + ".tables")
     importlib.import_module(pkg.__name__ + ".initial")
 ROUNDS = ARGS.rounds
+CLOCK = time.perf_counter if ARGS.clock == "wall" else time.process_time
 
 def paper(pkg, law, g):
     sc = pkg.tables.galton_board(2.0, 0.89, 1.0, law=law, gamma=g, top_row=0)
@@ -51,6 +59,8 @@ cases = {"paper Galton ensemble no-slip g=1/sqrt2 (coll/s)": (paper, ("no-slip",
          "torus r=0.1 force 1e-4: one 2.9e5-cell flight (cells/s)": (far_flight, ("specular",))}
 print(f"load {os.getloadavg()}")
 for name, (make, args) in cases.items():
+    if ARGS.only not in name:
+        continue
     runs = {"before": make(old, *args), "new": make(new, *args)}
     best = dict.fromkeys(runs, 0.0)
     ratios = []
@@ -58,9 +68,9 @@ for name, (make, args) in cases.items():
     for r in range(ROUNDS):
         rate = {}
         for key in (("before", "new") if r % 2 == 0 else ("new", "before")):
-            t0 = time.perf_counter()
+            t0 = CLOCK()
             n = runs[key]()
-            rate[key] = n / (time.perf_counter() - t0)
+            rate[key] = n / (CLOCK() - t0)
             counts[key] = n
             best[key] = max(best[key], rate[key])
         ratios.append(rate["new"] / rate["before"])

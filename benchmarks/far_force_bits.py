@@ -1,8 +1,8 @@
 """Which orbits the far-cell changes move: ~30 orbits of 10^4 collisions, this code against an earlier commit.
 
-The far-cell changes (``core/cells.py``: ``far_hit_in_cell``, ``far_hit_point_force``, and the
-exact re-basing of a far hit in ``core/loop.py``) act only on flights whose hit copy or walked
-cell lies ``FAR_CELLS`` (16) or more cells from the flight's start.  Every orbit here is run by
+The far-cell changes (``core/cells.py``: ``far_hit_in_cell``, ``far_move``, and the exact
+re-basing of a far hit in ``core/loop.py``) act only on flights whose hit copy or walked cell
+lies ``FAR_CELLS`` (16) or more cells from the flight's start.  Every orbit here is run by
 both versions (the old one a copy of the package at ``--before``, imported as
 ``noslipsim_before``: ``package_copy.py``); the final state and every record are compared bit
 for bit, and the farthest any flight of the old orbit gets from its start (in cells, along
@@ -111,16 +111,18 @@ def excursions(scene, ds, q, v):
 
 
 def first_difference(a, b):
-    """The first collision whose record differs (bitwise, NaN equal to NaN), or None."""
+    """The first collision whose record differs (bitwise, NaN equal to NaN) and the first field
+    differing there, or None."""
     m = min(a.sizes["collision"], b.sizes["collision"])
+    first = None
     for name in RECORDS:
         x, y = a[name].values[:m], b[name].values[:m]
         same = (x == y) | (np.isnan(x) & np.isnan(y)) if x.dtype.kind == "f" else x == y
-        if not same.all():
-            return int(np.argmin(same)), name
-    if a.sizes["collision"] != b.sizes["collision"]:
+        if not same.all() and (first is None or int(np.argmin(same)) < first[0]):
+            first = int(np.argmin(same)), name
+    if first is None and a.sizes["collision"] != b.sizes["collision"]:
         return m, "collision count"
-    return None
+    return first
 
 
 def main():

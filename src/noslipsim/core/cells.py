@@ -20,7 +20,7 @@ import math
 
 from .events import element_hit_time, hit_in_cell, window_box
 from .exact import lattice_shift_dd, two_prod, two_sum
-from .geometry import copy_shift, crossing_coefficients, element_box, lattice_coordinates, line_value
+from .geometry import copy_shift, crossing_coefficients, element_box, lattice_coordinates, line_value, nearest_cell
 from .jit import jit
 from .layout import LINE, SEGMENT
 from .roots import quadratic_exit, quadratic_roots
@@ -30,9 +30,19 @@ INF = math.inf
 #: The walk tests the copies of a cell this many cells (or more) from the flight's start on the
 #: flight re-centred exactly (:func:`far_hit_in_cell`), and a straight flight's hit found there is
 #: relocated by :func:`far_hit_point`; nearer cells and hits keep the plain evaluation, bit for bit.
-#: Under a force the hit point keeps the plain evaluation (eps x flight length): relocating it in
-#: the event loop, even a call never taken, cost the Galton board 30 % (benchmarks/RESULTS.md).
+#: Under a force the walk reports a hit found after it got this far with the escape's status (2)
+#: and a finite time; the event loop leaves its collision loop as for an escape and, in its block
+#: loop, moves the flight's start exactly to within :data:`NEAR_CELLS` of the hit (:func:`far_move`),
+#: from where the walk finds the hit near.  Nothing of it is in the collision loop: a call there,
+#: even never taken, cost the Galton board 30 %, a branch of its own 15-20 % (benchmarks/RESULTS.md).
 FAR_CELLS = 16
+#: :func:`far_move` puts a flight's start this many lattice units before its far hit (in each lattice
+#: coordinate, at most): the walk then finds the hit in the start's cell or the next, from a start
+#: formed at the scale of the hit point's coordinates in that cell, and the hit is as precise as a
+#: near one (tests/test_far_force.py: velocity within 0.019 of its conditioning tolerance at 0.05,
+#: 0.07 at 0.2, 0.64 at 1: the start's rounding grows with its coordinates, the plain flight with
+#: its length).
+NEAR_CELLS = 0.05
 
 
 @jit
@@ -149,7 +159,8 @@ def _walk_force_far(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, 
                     t_limit, extent_tol, max_cells, ceiling, d1, d2, t_in):
     """:func:`walk_hit`'s walk under a force from its cell ``(d1, d2)`` on, once it got ``FAR_CELLS`` or more
     from the start: far cells' copies by :func:`far_hit_in_cell`, and the cells of a flight that turns back
-    within ``FAR_CELLS`` of its start by :func:`events.hit_in_cell`, as before it left."""
+    within ``FAR_CELLS`` of its start by :func:`events.hit_in_cell`, as before it left.  A hit is
+    reported with status 2 and its finite time (the event loop approaches it with :func:`far_move`)."""
     for _ in range(max_cells):
         ta, sa = _strip_exit(a0, a1, a2, d1 - 0.5, d1 + 0.5, t_in)
         tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
@@ -158,12 +169,12 @@ def _walk_force_far(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, 
             t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, True,
                                        cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
             if e >= 0:
-                return t, e, o1, o2, 0
+                return t, e, o1, o2, 2
         else:
             t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, True,
                                            cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, ceiling)
             if e >= 0:
-                return t, e, o1, o2, 0
+                return t, e, o1, o2, 2
         if t_out >= t_limit:
             return INF, -1, 0, 0, 1
         if ta == t_out:
@@ -184,7 +195,10 @@ def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
     without a hit (an endless free flight, reported as an escape).  Cells ``FAR_CELLS``
     or more from the start are tested on the flight re-centred exactly there
     (:func:`far_hit_in_cell`, out of line); the event loop forms such a hit's point
-    exactly for a straight flight (:func:`far_hit_point`).
+    exactly for a straight flight (:func:`far_hit_point`).  Under a force
+    (``has_force``) a hit found after the walk got that far is returned with
+    status 2, as an escape but with its finite time ``t``: the event loop
+    moves the flight's start near it (:func:`far_move`) and walks again.
     ``ceiling``: the top of a bounded lattice relative to cell 0 (copies whose
     centre lies above it are skipped, :func:`events.hit_in_cell`); ``inf`` for none.
     """
@@ -341,3 +355,51 @@ def far_hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_
     if best_e < 0:
         return INF, -1, 0, 0
     return best_t, best_e, best_o1, best_o2
+
+
+@jit(inline="always")  # as an out-of-line call in the block loop it cost the Galton board (specular) 10-15 %
+def far_move(A, B, x, y, vx, vy, ax, ay, t_hit, t_max):
+    """Move a flight under a force exactly to shortly before its far hit, re-based onto the cell reached.
+
+    The flight ``q(t) = (x, y) + v t + a t^2/2`` (relative to its start cell) hits an
+    element copy far away at ``t_hit``.  Its start moves to ``t_move = t_hit - delta``,
+    ``delta`` the positive root of ``|a| delta^2 / 2 + |u| delta = L``, where ``u = v + a t_hit``
+    is the velocity at the hit and ``L = NEAR_CELLS / max(|b1|, |b2|)`` (``b1, b2`` the rows
+    of ``B = A^-1``).  Since ``q(t_hit - s) - q(t_hit) = -u s + a s^2/2``, the flight after
+    ``t_move`` lies within ``L`` of the hit point, hence within ``NEAR_CELLS`` of it in each
+    lattice coordinate.  Before ``t_hit`` the flight is in free space (``t_hit`` is its
+    first hit), so the moved start is a start of the same flight, which meets the same
+    copy ``delta`` later.  ``t_move`` is at most ``t_max`` (the time left before
+    ``max_time``: the orbit then stops there).
+
+    The point is formed to twice the working precision (:func:`flight_point_dd`) and seen
+    from the cell ``(k1, k2)`` that holds it through the translation formed exactly
+    (:func:`exact.lattice_shift_dd`): it carries a few ulps of the cell's size, not ``eps``
+    times the flight's length.  The velocity is ``v + a t_move``, to a few ulps of itself.
+
+    Returns ``(t_move, k1, k2, x, y, vx, vy)``, the new position relative to cell ``(k1, k2)``
+    of the old frame.
+    """
+    ux = vx + ax * t_hit
+    uy = vy + ay * t_hit
+    u = math.sqrt(ux * ux + uy * uy)
+    acc = math.sqrt(ax * ax + ay * ay)
+    reach = NEAR_CELLS / max(math.sqrt(B[0, 0] * B[0, 0] + B[0, 1] * B[0, 1]),
+                             math.sqrt(B[1, 0] * B[1, 0] + B[1, 1] * B[1, 1]))
+    delta = 2.0 * reach / (u + math.sqrt(u * u + 2.0 * acc * reach))
+    # delta < t_hit, as the walk got FAR_CELLS from the start; a half step keeps any rounding from stalling
+    t_move = min(t_hit - delta if delta < t_hit else 0.5 * t_hit, t_max)
+    xh, xl = flight_point_dd(x, vx, ax, t_move, True)
+    yh, yl = flight_point_dd(y, vy, ay, t_move, True)
+    k1, k2 = nearest_cell(B, xh, yh)
+    sxh, sxl, syh, syl = lattice_shift_dd(A, k1, k2)
+    px = minus_shift_dd(xh, xl, sxh, sxl)
+    py = minus_shift_dd(yh, yl, syh, syl)
+    j1, j2 = nearest_cell(B, px, py)
+    if j1 != 0 or j2 != 0:  # the rounded point lay within rounding of a face: the exact one's cell
+        k1 += j1
+        k2 += j2
+        sxh, sxl, syh, syl = lattice_shift_dd(A, k1, k2)
+        px = minus_shift_dd(xh, xl, sxh, sxl)
+        py = minus_shift_dd(yh, yl, syh, syl)
+    return t_move, k1, k2, px, py, vx + ax * t_move, vy + ay * t_move

@@ -22,7 +22,7 @@ time is a running sum.
 import functools
 import math
 
-from .cells import FAR_CELLS, far_hit_point, walk_hit
+from .cells import FAR_CELLS, far_hit_point, far_move, walk_hit
 from .disks import disk_lattice_kernel
 from .energy import SETTLE_EVERY, settle, settle_mode, state_energy
 from .events import advance, exact_line_hit, hit_in_cell, leaves_through_contact, slides_off
@@ -178,6 +178,8 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
     MIXED_ALWAYS = mixed is True
     # the law argument read at run time (PER_ELEMENT for a mixed table); spin=False is the specular law throughout
     LAW_KEPT = SPIN_RT or (SPIN and MIXED_ANY)
+    # a far hit under a force, approached by moving the flight's start (cells.far_move): free fall on a lattice
+    FAR_MOVE = force is not False and lattice is not False and not THERMO_ALWAYS
 
     @jit
     def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, thermostat, x, y, vx, vy, w,
@@ -309,6 +311,8 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                         t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay,
                                                             has_force, cur_e, cur_o1, cur_o2, limit, extent_tol,
                                                             MAX_CELLS_PER_FLIGHT, ceiling - oy)
+                    # status 2 with t_hit finite (a hit after the walk got FAR_CELLS from the start, under a
+                    # force) leaves as an escape: the block loop moves the start near the hit (far_move, below)
                     escape = status == 2 or (status == 1 and limit == INF)
                 else:
                     t_hit, e, o1, o2 = hit_in_cell(kinds, params, copies, A, 0, 0, x, y, vx, vy, ax, ay,
@@ -344,8 +348,8 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 sx, sy = copy_shift(A, o1, o2, lattice)
                 rx = hx - sx
                 ry = hy - sy
-                # a straight flight's far hit: eps x flight length (under a force the plain point stays: the
-                # call alone, never taken, cost the Galton board 30 %; benchmarks/RESULTS.md)
+                # a straight flight's far hit: eps x flight length (under a force no far hit comes here: the walk
+                # reports it as an escape with a finite time, and the block loop moves the start near it)
                 far = lattice and not has_force and max(abs(o1), abs(o2)) >= FAR_CELLS
                 if far:
                     rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
@@ -442,6 +446,25 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 if slides_off(kinds[cur_e], params[cur_e], x - sx, y - sy, vx, vy, aex, aey):
                     stop = STOP_GRAZING
                     break
+            if FAR_MOVE and stop == STOP_ESCAPE and t_hit < INF and has_force and lattice:
+                # a far hit under a force (walk status 2, t_hit finite): the plain hit point would carry eps x the
+                # flight's length.  The start moves exactly to shortly before the hit (in free space: no
+                # collision, no record), re-based onto the cell reached, and the collision loop finds the
+                # hit from there, near; or, with max_time before that, to max_time, where the orbit stops
+                remaining = max_time - t
+                t_move, k1, k2, x, y, vx, vy = far_move(A, B, x, y, vx, vy, ax, ay, t_hit, remaining)
+                m1 += k1
+                m2 += k2
+                ox, oy = lattice_shift(A, m1, m2)
+                cur_e = -1  # in free space: no root at the start to deflate
+                cur_o1 = 0
+                cur_o2 = 0
+                if t_move < remaining:  # on to the hit
+                    t += t_move
+                    stop = STOP_MAX_COLLISIONS
+                    continue
+                t = max_time
+                stop = STOP_MAX_TIME
             if stop != STOP_MAX_COLLISIONS or n >= max_collisions:  # stopped inside the block, or done
                 break
             vx, vy, w = settle(vx, vy, w, mixes, ax, ay, x + ox, y + oy, potential, e0, how, nx, ny)
