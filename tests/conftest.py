@@ -46,14 +46,14 @@ def _session_folder(tmp_path_factory):
 
 
 @pytest.fixture(scope="session")
-def cold_cache(tmp_path_factory):
-    """An empty numba cache for the first run, as a new user has it (one per session, all workers)."""
-    return _session_folder(tmp_path_factory) / "numba-cache-a"
+def repo(tmp_path_factory):
+    """A copy of the workflow with the reduced run built in it: two jobs at a time.
 
-
-@pytest.fixture(scope="session")
-def repo(tmp_path_factory, cold_cache):
-    """A copy of the workflow with the reduced run built in it: two jobs at a time, from an empty cache.
+    Its jobs use the test session's numba cache (``NUMBA_CACHE_DIR`` if set, else numba's default
+    beside the sources), empty when CI starts: a variant the pipeline compiles the tests load, and the
+    other way round, instead of compiling it twice (a cache of the pipeline's own cost CI minutes).
+    Every job and test process thus loads variants other processes compiled, the compile-cache issue's
+    case; tests/test_compile_cache.py compiles each variant in a process and a fresh cache of its own.
 
     Shared by test_pipeline.py and test_slurm.py (the local run the SLURM runs must reproduce), which
     pytest-xdist may run in different workers: the first to ask builds it under a file lock, the
@@ -66,7 +66,6 @@ def repo(tmp_path_factory, cold_cache):
         fcntl.flock(lock, fcntl.LOCK_EX)
         if not built.exists():
             shutil.rmtree(repo, ignore_errors=True)  # a half-built run of a worker that failed
-            cold_cache.mkdir(exist_ok=True)
-            snakemake(copy_workflow(repo), "--cores", "2", cache=cold_cache)
+            snakemake(copy_workflow(repo), "--cores", "2")
             built.touch()
     return repo

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-from pipeline_run import ROOT, snakemake, workflow_copy  # the fixtures cold_cache and repo: conftest.py
+from pipeline_run import ROOT, snakemake, workflow_copy  # the fixture repo: conftest.py
 
 from noslipsim.plot import numbers_markdown
 
@@ -25,19 +25,21 @@ TOL = 1e-9
 
 
 @pytest.fixture(scope="module")
-def reruns(tmp_path_factory, repo, cold_cache):
-    """The datasets again in a fresh copy, one job at a time and in reverse order, from the cache the first
-    run filled: each job's process loads kernel variants that other processes compiled, in another order
-    (the compile-cache issue's failure: a variant's physics depending on which process compiled what).
+def reruns(tmp_path_factory, repo):
+    """The datasets again in a fresh copy, one job at a time and in reverse order, from the numba cache the
+    first run filled (the session's): each job's process loads kernel variants that other processes
+    compiled, in another order (the compile-cache issue's failure: a variant's physics depending on which
+    process compiled what).
 
     Only the datasets: the figures are drawn from them (the first run checks the drawing).  A second
-    cold run (another empty cache, -j2) was dropped: it repeated the first run's compiles for 5 CI
-    minutes; tests/test_compile_cache.py compiles and loads every variant in both orders.
+    run from another empty cache (-j2) was dropped: it repeated the first run's compiles for 4 CI
+    minutes; tests/test_compile_cache.py compiles every variant in its own process and fresh cache and
+    loads them in both orders.
     """
     datasets = sorted((p.relative_to(repo / ".test").as_posix() for p in (repo / ".test" / "results").rglob("*.nc")),
                       reverse=True)
     single = workflow_copy(tmp_path_factory, "pipeline-single")
-    snakemake(single, "--cores", "1", *datasets, cache=cold_cache)
+    snakemake(single, "--cores", "1", *datasets)
     return {"-j1, reverse order, the cache the first run filled": single}
 
 
@@ -309,7 +311,7 @@ def holds_data(ds):
 
 
 def test_datasets_do_not_depend_on_the_cache_or_the_order_of_jobs(repo, reruns):
-    """Two runs (cold -j2, then -j1 from its cache) of the reduced pipeline: every dataset holds data, the same bits."""
+    """Two runs (-j2, then -j1 from the cache it filled) of the reduced pipeline: data in every dataset, same bits."""
     results = repo / ".test" / "results"
     names = sorted(p.relative_to(results).as_posix() for p in results.rglob("*.nc"))
     assert len(names) >= len(DATASET_CHECKS)

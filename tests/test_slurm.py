@@ -8,7 +8,7 @@ ensemble job of two threads), with the four compile jobs they depend on (Snakema
 executor polls the queue at growing intervals, so each wave of jobs costs tens of seconds); both
 are compared value
 for value with the reduced pipeline run locally (the session's ``repo``, shared with
-test_pipeline.py).  The SLURM runs use the numba cache that local run filled (``cold_cache``,
+test_pipeline.py).  The SLURM runs use the numba cache that local run filled (the session's,
 warm by then): what is tested is where the jobs run, not a second cold compile (results never
 depend on the cache: test_compile_cache.py).  Recipes as in docs/cluster.md.
 """
@@ -83,7 +83,7 @@ def test_the_node_is_idle_and_runs_a_job(slurm):
     assert out.returncode == 0 and out.stdout.strip() == os.uname().nodename.split(".")[0]
 
 
-def test_snakemake_slurm_executor_makes_the_local_datasets(slurm, repo, cold_cache, tmp_path_factory):
+def test_snakemake_slurm_executor_makes_the_local_datasets(slurm, repo, tmp_path_factory):
     """Every job a SLURM job (the compile jobs too); the status from squeue (no accounting database)."""
     local, repo = repo, workflow_copy(tmp_path_factory, "slurm")
     partition = subprocess.run(["sinfo", "-h", "-o", "%R"], capture_output=True, text=True).stdout.split()[0]
@@ -91,7 +91,7 @@ def test_snakemake_slurm_executor_makes_the_local_datasets(slurm, repo, cold_cac
               "--default-resources", "slurm_account=noslipsim", f"slurm_partition={partition}", "runtime=10",
               "mem_mb=1000", "--set-threads", "galton_distribution=2",
               "--slurm-status-command", "squeue", "--slurm-init-seconds-before-status-checks", "1",
-              "--slurm-keep-successful-logs", "--latency-wait", "5", *TARGETS, cache=cold_cache)
+              "--slurm-keep-successful-logs", "--latency-wait", "5", *TARGETS)
     logs = repo / ".test" / ".snakemake" / "slurm_logs"
     ran = {p.name for p in logs.iterdir()} if logs.exists() else set()
     assert {"rule_galton_orbits", "rule_galton_distribution", "rule_compile_kernel"} <= ran, ran
@@ -99,13 +99,12 @@ def test_snakemake_slurm_executor_makes_the_local_datasets(slurm, repo, cold_cac
         same_dataset(repo / ".test" / target, local / ".test" / target)
 
 
-def test_dask_workers_as_slurm_jobs_make_the_local_dataset(slurm, repo, cold_cache, tmp_path_factory):
+def test_dask_workers_as_slurm_jobs_make_the_local_dataset(slurm, repo, tmp_path_factory):
     """``runtime={dask_cluster: slurm}`` on the command line: the ensemble's chunks run on two SLURM jobs."""
     local, repo = repo, workflow_copy(tmp_path_factory, "dask-slurm")
     target = "results/galton/distribution.nc"
     snakemake(repo, target, "--cores", "2", "--config",
-              "runtime={dask_cluster: slurm, dask_workers: 2, dask_worker_memory: 1GiB, chunk_size: 50}",
-              cache=cold_cache)
+              "runtime={dask_cluster: slurm, dask_workers: 2, dask_worker_memory: 1GiB, chunk_size: 50}")
     log = (repo / ".test" / "logs" / "galton_distribution.log").read_text()
     assert "with 2 worker job(s) on SLURM" in log and "(job " in log, log[-2000:]
     assert "tcp://127.0.0.1:" in log                                    # the scheduler listened on loopback
