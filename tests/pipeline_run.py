@@ -1,5 +1,4 @@
 """Running the figure pipeline in a temporary copy of the repository (test_pipeline.py, test_slurm.py)."""
-import os
 import shutil
 import subprocess
 import sys
@@ -10,14 +9,11 @@ ROOT = Path(__file__).resolve().parents[1]
 WORKFLOW_FILES = ["Snakefile", "workflow", "config", ".test/config"]
 
 
-def snakemake(repo, *args, check=True, cache=None):
-    """Run snakemake on the reduced config in ``repo``; returns the completed process.
-
-    ``cache``: the numba cache folder of the run (default: the test session's).
-    """
+def snakemake(repo, *args, check=True):
+    """Run snakemake on the reduced config in ``repo`` (the test session's numba cache); returns the
+    completed process."""
     cmd = [sys.executable, "-m", "snakemake", "--directory", ".test", *args]
-    env = dict(os.environ, **({} if cache is None else {"NUMBA_CACHE_DIR": str(cache)}))
-    proc = subprocess.run(cmd, cwd=repo, capture_output=True, text=True, env=env)
+    proc = subprocess.run(cmd, cwd=repo, capture_output=True, text=True)
     if check and proc.returncode != 0:
         raise AssertionError(f"{' '.join(cmd[2:])} failed ({proc.returncode}):\n{proc.stdout[-4000:]}\n"
                              f"{proc.stderr[-6000:]}")
