@@ -357,7 +357,7 @@ def far_hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_
     return best_t, best_e, best_o1, best_o2
 
 
-@jit(inline="always")  # as an out-of-line call in the block loop it cost the Galton board (specular) 10-15 %
+@jit(inline="always")  # out of line, called around the collision loop, it cost the Galton board (specular) 10-15 %
 def far_move(A, B, x, y, vx, vy, ax, ay, t_hit, t_max):
     """Move a flight under a force exactly to shortly before its far hit, re-based onto the cell reached.
 

@@ -260,8 +260,6 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
         mixes = law != SPECULAR and s != 0.0  # the spin takes part in the energy exchange (some no-slip element)
         e0 = state_energy(vx, vy, w, mixes, ax, ay, x, y, potential)[0]
         how = settle_mode(potential, mixes, thermo)  # where a correction goes (energy.settle)
-        nx = 0.0  # the last collision's normal, its tangent the pair a correction may go to
-        ny = 0.0
         t = 0.0
         cur_e = start_element
         cur_o1 = 0
@@ -274,12 +272,13 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
         n_rec = 0
         n_corner = 0
         stop = STOP_MAX_COLLISIONS
-        # blocks of SETTLE_EVERY collisions (corner bounces may step past a block's end), the energy
-        # measured and given back between two (energy.settle): the call stays out of the inner loop, whose
-        # registers it would otherwise spill (1-2 % on the pentagon and the Sinai box, no-slip)
-        block_end = min(max_collisions, SETTLE_EVERY)
-        while True:
-            while n < block_end:
+        # the energy measured and given back every SETTLE_EVERY collisions (energy.settle), at the end of the
+        # collision that reaches settle_next (corner bounces may step past it), with that collision's normal: a
+        # value of one pass, never carried to the next (carried, and the settle in a loop around the collision
+        # loop, the no-slip Galton board ran 6 to 12 % slower; benchmarks/RESULTS.md)
+        settle_next = min(max_collisions, SETTLE_EVERY)
+        while True:  # around the collision loop: only for a far hit's moved start
+            while n < max_collisions:
                 length = max(scale, abs(x), abs(y))
                 extent_tol = EXTENT_TOL * length
                 remaining = max_time - t
@@ -312,7 +311,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                                                             has_force, cur_e, cur_o1, cur_o2, limit, extent_tol,
                                                             MAX_CELLS_PER_FLIGHT, ceiling - oy)
                     # status 2 with t_hit finite (a hit after the walk got FAR_CELLS from the start, under a
-                    # force) leaves as an escape: the block loop moves the start near the hit (far_move, below)
+                    # force) leaves as an escape: the outer loop moves the start near the hit (far_move, below)
                     escape = status == 2 or (status == 1 and limit == INF)
                 else:
                     t_hit, e, o1, o2 = hit_in_cell(kinds, params, copies, A, 0, 0, x, y, vx, vy, ax, ay,
@@ -349,7 +348,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 rx = hx - sx
                 ry = hy - sy
                 # a straight flight's far hit: eps x flight length (under a force no far hit comes here: the walk
-                # reports it as an escape with a finite time, and the block loop moves the start near it)
+                # reports it as an escape with a finite time, and the outer loop moves the start near it)
                 far = lattice and not has_force and max(abs(o1), abs(o2)) >= FAR_CELLS
                 if far:
                     rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
@@ -446,6 +445,9 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 if slides_off(kinds[cur_e], params[cur_e], x - sx, y - sy, vx, vy, aex, aey):
                     stop = STOP_GRAZING
                     break
+                if n >= settle_next and n < max_collisions:  # (none after the last collision, as before)
+                    vx, vy, w = settle(vx, vy, w, mixes, ax, ay, x + ox, y + oy, potential, e0, how, nx, ny)
+                    settle_next = min(max_collisions, n + SETTLE_EVERY)
             if FAR_MOVE and stop == STOP_ESCAPE and t_hit < INF and has_force and lattice:
                 # a far hit under a force (walk status 2, t_hit finite): the plain hit point would carry eps x the
                 # flight's length.  The start moves exactly to shortly before the hit (in free space: no
@@ -465,10 +467,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                     continue
                 t = max_time
                 stop = STOP_MAX_TIME
-            if stop != STOP_MAX_COLLISIONS or n >= max_collisions:  # stopped inside the block, or done
-                break
-            vx, vy, w = settle(vx, vy, w, mixes, ax, ay, x + ox, y + oy, potential, e0, how, nx, ny)
-            block_end = min(max_collisions, n + SETTLE_EVERY)
+            break
         if lattice:  # the final state may lie in another cell (a stop in mid-flight)
             k1, k2 = nearest_cell(B, x, y)
             m1 += k1

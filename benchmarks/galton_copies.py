@@ -1,0 +1,97 @@
+"""The Galton board ensemble for several versions, each as several package copies, in one process.
+
+Why copies: one version's kernels, compiled twice in one process under two package names, can
+run the no-slip board up to 10 % apart, run after run (benchmarks/RESULTS.md, "The settle's cost,
+probed"): where the loader puts a kernel matters as much as small code changes.  A version is
+judged here by all of its copies, so a placement draw is not taken for the code's effect.
+
+Each version is a commit (extracted with ``package_copy``) or a folder holding a changed copy of
+``src/noslipsim``; each becomes ``--copies`` packages ``nss_<label>_<k>``.  The energy settle is
+switched off in every copy (``energy.SETTLE_AT = 1``, read when the kernels compile), so versions
+whose collision code agrees do the same work; the total collisions of each copy are printed to
+check it.  Rounds call the copies in turn, the order reversed every other round; per copy, the
+median over rounds of its rate over the first copy's (the first version is the reference).
+
+    python benchmarks/galton_copies.py b4489a3 HEAD /tmp/changed/noslipsim --law no-slip --rounds 8
+
+Use a fresh ``NUMBA_CACHE_DIR`` when a folder's sources change between runs.
+"""
+import argparse
+import importlib
+import math
+import os
+import shutil
+import statistics
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from package_copy import package_copy
+
+DEPTH = 100 * math.sqrt(3.0)  # bench_before_after.py's board: 100 rows
+
+
+def load(version, label, k, where):
+    """Package ``nss_<label>_<k>`` of ``version`` (a commit or a package folder), settle off."""
+    name = f"nss_{label}_{k}"
+    if os.path.isdir(version):
+        shutil.rmtree(os.path.join(where, name), ignore_errors=True)
+        shutil.copytree(version, os.path.join(where, name))
+        if where not in sys.path:
+            sys.path.insert(0, where)
+    else:
+        package_copy(version, name, where, fresh=True)
+    pkg = importlib.import_module(name)
+    importlib.import_module(f"{name}.core.energy").SETTLE_AT = 1.0  # before any kernel compiles
+    for sub in ("tables", "initial"):
+        importlib.import_module(f"{name}.{sub}")
+    return pkg
+
+
+def ensemble(pkg, law, n_orbits):
+    scene = pkg.tables.galton_board(2.0, 0.5, 1.0, law=law)
+    v = pkg.initial.unit_velocities(n_orbits, seed=7)
+    q = np.tile((1.0, 0.0), (n_orbits, 1))
+    kw = {"max_collisions": 10**7, "stop_below": -DEPTH, "max_time": 1e4}
+    pkg.simulate_many(scene, q[:2], v[:2], scheduler="sync", progress=False, **{**kw, "max_collisions": 10})
+    return lambda: int(pkg.simulate_many(scene, q, v, scheduler="sync", progress=False, **kw).n_collisions.sum())
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("versions", nargs="+", help="commits or package folders; the first is the reference")
+    ap.add_argument("--law", default="no-slip", choices=("no-slip", "specular"))
+    ap.add_argument("--copies", type=int, default=2, help="packages per version")
+    ap.add_argument("--rounds", type=int, default=8)
+    ap.add_argument("--orbits", type=int, default=1000)
+    args = ap.parse_args()
+    where = tempfile.mkdtemp(prefix="galton_copies_")
+    runs = {}
+    for i, version in enumerate(args.versions):
+        label = f"v{i}"
+        for k in range(args.copies):
+            runs[f"{label}_{k}"] = ensemble(load(version, label, k, where), args.law, args.orbits)
+    versions = ", ".join(f"v{i} = {v}" for i, v in enumerate(args.versions))
+    print(f"load at start: {os.getloadavg()}; versions: {versions}")
+    names = list(runs)
+    rates = {n: [] for n in names}
+    work = {}
+    for r in range(args.rounds):
+        for n in (names if r % 2 == 0 else names[::-1]):
+            t0 = time.perf_counter()
+            work[n] = runs[n]()
+            rates[n].append(work[n] / (time.perf_counter() - t0))
+    ref = rates[names[0]]
+    for n in names:
+        ratios = [a / b for a, b in zip(rates[n], ref)]
+        print(f"{n:8s} {work[n]:>12,} collisions  best {max(rates[n]):>12,.0f} coll/s  "
+              f"vs {names[0]} median {statistics.median(ratios):.3f} ({min(ratios):.2f}-{max(ratios):.2f})")
+    print(f"load at end: {os.getloadavg()}")
+    shutil.rmtree(where, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()
