@@ -18,7 +18,6 @@ Use a fresh ``NUMBA_CACHE_DIR`` when a folder's sources change between runs.
 """
 import argparse
 import importlib
-import math
 import os
 import shutil
 import statistics
@@ -26,12 +25,9 @@ import sys
 import tempfile
 import time
 
-import numpy as np
-
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench_before_after import CASES
 from package_copy import package_copy
-
-DEPTH = 100 * math.sqrt(3.0)  # bench_before_after.py's board: 100 rows
 
 
 def load(version, label, k, where):
@@ -52,12 +48,9 @@ def load(version, label, k, where):
 
 
 def ensemble(pkg, law, n_orbits):
-    scene = pkg.tables.galton_board(2.0, 0.5, 1.0, law=law)
-    v = pkg.initial.unit_velocities(n_orbits, seed=7)
-    q = np.tile((1.0, 0.0), (n_orbits, 1))
-    kw = {"max_collisions": 10**7, "stop_below": -DEPTH, "max_time": 1e4}
-    pkg.simulate_many(scene, q[:2], v[:2], scheduler="sync", progress=False, **{**kw, "max_collisions": 10})
-    return lambda: int(pkg.simulate_many(scene, q, v, scheduler="sync", progress=False, **kw).n_collisions.sum())
+    """``bench_before_after.py``'s Galton board ensemble case of ``law`` with ``n_orbits`` orbits."""
+    make, scene, start, _, kw = CASES[f"ensemble: Galton {law}"]
+    return make(pkg, scene, start, n_orbits, kw)
 
 
 def main():
