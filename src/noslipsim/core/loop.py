@@ -276,7 +276,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
         # collision that reaches settle_next (corner bounces may step past it), with that collision's normal: a
         # value of one pass, never carried to the next (carried, and the settle in a loop around the collision
         # loop, the no-slip Galton board ran 6 to 12 % slower; benchmarks/RESULTS.md)
-        settle_next = min(max_collisions, SETTLE_EVERY)
+        settle_next = SETTLE_EVERY
         while True:  # around the collision loop: only for a far hit's moved start
             while n < max_collisions:
                 length = max(scale, abs(x), abs(y))
@@ -447,7 +447,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                     break
                 if n >= settle_next and n < max_collisions:  # (none after the last collision, as before)
                     vx, vy, w = settle(vx, vy, w, mixes, ax, ay, x + ox, y + oy, potential, e0, how, nx, ny)
-                    settle_next = min(max_collisions, n + SETTLE_EVERY)
+                    settle_next = n + SETTLE_EVERY
             if FAR_MOVE and stop == STOP_ESCAPE and t_hit < INF and has_force and lattice:
                 # a far hit under a force (walk status 2, t_hit finite): the plain hit point would carry eps x the
                 # flight's length.  The start moves exactly to shortly before the hit (in free space: no
