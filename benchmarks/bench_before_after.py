@@ -1,22 +1,25 @@
-"""Old vs new code in one process: no scene in benchmarks/ slower than before (issue 13).
+"""Old vs new code in one process, each as several package copies: no scene in benchmarks/ slower than before.
 
 On a shared machine, rates measured in different processes minutes apart differ by up to 2x
-(benchmarks/RESULTS.md); a ratio measured in one process, with the two versions called
-alternately, is what the load cannot fake.  ``--before DIR`` is a copy of the package from an
-earlier commit, renamed ``noslipsim_before`` (relative imports only, so it imports as a second
-package and compiles its own kernels):
+(benchmarks/RESULTS.md); a ratio measured in one process, with the versions called in turn, is
+what the load cannot fake.  And one version compiled twice in one process, under two package
+names, can run a scene up to 10 % apart, run after run (RESULTS.md, "The settle's cost, probed"):
+where the loader puts a kernel is drawn per copy.  So each version runs as ``--copies`` packages
+(``package_copy.load_version``: relative imports only, each copy imports as a package of its own
+and compiles its own kernels), and a version is judged by all of its copies.
 
-    git archive <commit> src | tar -x -C /tmp/old
-    cp -r /tmp/old/src/noslipsim /tmp/old/pkg/noslipsim_before
-    PYTHONPATH=src python benchmarks/bench_before_after.py --before /tmp/old/pkg
+    python benchmarks/bench_before_after.py --before <commit or package folder> [--copies 2]
 
-(``package_copy.package_copy(commit, "noslipsim_before", "/tmp/old/pkg")`` makes the same copy.)
+``--before`` is a commit (extracted with ``git archive``) or a folder holding a copy of
+``src/noslipsim``; "new" is this checkout's ``src/noslipsim``.
 
 Each case is the workload of a scene benchmark (``bench_collisions.py``: kernels without a log
 and ``simulate`` with one; ``bench_ensembles.py``: ``simulate_many`` on one core, Galton board
-and Sinai torus; ``bench_centred_torus.py``: the centred-disk torus) at about the same size (0.3 to 1 s per run), timed
-``--rounds`` times with the order of the two versions swapped every round; per case: the best
-rate of each version, and the median and range of the per-round ratios new / before.
+and Sinai torus; ``bench_centred_torus.py``: the centred-disk torus) at about the same size (0.3 to
+1 s per run), timed ``--rounds`` times, every copy once per round, the order reversed every other
+round.  Per case: the best rate of each version; new/before, the median over rounds of the
+geometric mean of the new copies' rates over that of the before copies'; and each new copy's
+median over rounds against the before copies (the spread of the draw).
 
 Kernel cases run each version through its own one call (``package_copy.kernel_call``):
 ``run_orbits`` on the scene's kernel table for a package that has it, and for an
@@ -26,19 +29,20 @@ one orbit of millions of collisions per call either way, so the call's own overh
 (some 30 us) does not count.
 """
 import argparse
-import importlib
 import math
 import os
+import shutil
 import statistics
 import sys
+import tempfile
 import time
 
 import numpy as np
 
-import noslipsim as new
-
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from package_copy import kernel_call
+from package_copy import kernel_call, load_version
+
+NEW = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "noslipsim")
 
 ROWS = 100
 DEPTH = ROWS * math.sqrt(3.0)
@@ -104,39 +108,48 @@ def scaled(make, spec, factor):
     return [*spec[:i], max(1, int(spec[i] * factor)), *spec[i + 1:]]
 
 
+def geomean(values):
+    return math.exp(statistics.fmean(math.log(v) for v in values))
+
+
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--before", required=True, help="folder holding the package noslipsim_before")
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--before", required=True, help="a commit, or a folder holding a copy of src/noslipsim")
+    ap.add_argument("--copies", type=int, default=2, help="packages per version (a version is judged by all)")
     ap.add_argument("--rounds", type=int, default=7)
     ap.add_argument("--only", default="", help="run the cases whose name contains this text")
     ap.add_argument("--scale", type=float, default=1.0,
                     help="multiplies each case's collisions or orbits (small values only check that it runs)")
     args = ap.parse_args()
-    sys.path.insert(0, os.path.abspath(args.before))
-    old = importlib.import_module("noslipsim_before")
-    for pkg in (old, new):  # the submodules the cases use, as attributes of each package
-        for sub in ("tables", "initial"):
-            importlib.import_module(f"{pkg.__name__}.{sub}")
-    print(f"before: {old.__file__}\nnew:    {new.__file__}\nload at start: {os.getloadavg()}")
-    print(f"{'case':<38}{'before coll/s':>15}{'new coll/s':>15}{'new/before median':>19}{'range':>14}")
+    if args.copies < 1 or args.rounds < 1:
+        ap.error("--copies and --rounds must be at least 1")
+    where = tempfile.mkdtemp(prefix="before_after_")
+    pkgs = {(side, k): load_version(version, f"nss_{side}_{k}", where)
+            for side, version in (("before", args.before), ("new", NEW)) for k in range(args.copies)}
+    print(f"before: {args.before}\nnew:    {NEW}\ncopies per version: {args.copies}\nload at start: {os.getloadavg()}")
+    print(f"{'case':<38}{'before coll/s':>15}{'new coll/s':>15}{'new/before':>12}{'range':>11}   new copies")
     for name, (make, *spec) in CASES.items():
         if args.only not in name:
             continue
         spec = scaled(make, spec, args.scale)
-        runs = {"before": make(old, *spec), "new": make(new, *spec)}
-        best = dict.fromkeys(runs, 0.0)
-        ratios = []
+        runs = {key: make(pkg, *spec) for key, pkg in pkgs.items()}
+        rates = {key: [] for key in runs}
+        order = list(runs)
         for r in range(args.rounds):
-            rate = {}
-            for key in (("before", "new") if r % 2 == 0 else ("new", "before")):
+            for key in (order if r % 2 == 0 else order[::-1]):
                 t0 = time.perf_counter()
                 n = runs[key]()
-                rate[key] = n / (time.perf_counter() - t0)
-                best[key] = max(best[key], rate[key])
-            ratios.append(rate["new"] / rate["before"])
-        print(f"{name:<38}{best['before']:>15,.0f}{best['new']:>15,.0f}{statistics.median(ratios):>19.3f}"
-              f"{min(ratios):>7.2f}-{max(ratios):.2f}", flush=True)
+                rates[key].append(n / (time.perf_counter() - t0))
+        side_rate = {side: [geomean([rates[(side, k)][r] for k in range(args.copies)]) for r in range(args.rounds)]
+                     for side in ("before", "new")}
+        ratios = [a / b for a, b in zip(side_rate["new"], side_rate["before"])]
+        per_copy = " ".join(f"{statistics.median([a / b for a, b in zip(rates[('new', k)], side_rate['before'])]):.3f}"
+                            for k in range(args.copies))
+        best = {side: max(max(rates[(side, k)]) for k in range(args.copies)) for side in ("before", "new")}
+        print(f"{name:<38}{best['before']:>15,.0f}{best['new']:>15,.0f}{statistics.median(ratios):>12.3f}"
+              f"{min(ratios):>6.2f}-{max(ratios):.2f}   {per_copy}", flush=True)
     print(f"load at end: {os.getloadavg()}")
+    shutil.rmtree(where, ignore_errors=True)
 
 
 if __name__ == "__main__":

@@ -27,24 +27,12 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bench_before_after import CASES
-from package_copy import package_copy
+from package_copy import load_version
 
 
-def load(version, label, k, where):
-    """Package ``nss_<label>_<k>`` of ``version`` (a commit or a package folder), settle off."""
-    name = f"nss_{label}_{k}"
-    if os.path.isdir(version):
-        shutil.rmtree(os.path.join(where, name), ignore_errors=True)
-        shutil.copytree(version, os.path.join(where, name))
-        if where not in sys.path:
-            sys.path.insert(0, where)
-    else:
-        package_copy(version, name, where, fresh=True)
-    pkg = importlib.import_module(name)
-    importlib.import_module(f"{name}.core.energy").SETTLE_AT = 1.0  # before any kernel compiles
-    for sub in ("tables", "initial"):
-        importlib.import_module(f"{name}.{sub}")
-    return pkg
+def settle_off(name):
+    """The energy settle of package ``name`` switched off (read when its kernels compile)."""
+    importlib.import_module(f"{name}.core.energy").SETTLE_AT = 1.0
 
 
 def ensemble(pkg, law, n_orbits):
@@ -66,7 +54,8 @@ def main():
     for i, version in enumerate(args.versions):
         label = f"v{i}"
         for k in range(args.copies):
-            runs[f"{label}_{k}"] = ensemble(load(version, label, k, where), args.law, args.orbits)
+            pkg = load_version(version, f"nss_{label}_{k}", where, settle_off)
+            runs[f"{label}_{k}"] = ensemble(pkg, args.law, args.orbits)
     versions = ", ".join(f"v{i} = {v}" for i, v in enumerate(args.versions))
     print(f"load at start: {os.getloadavg()}; versions: {versions}")
     names = list(runs)

@@ -57,6 +57,29 @@ def package_copy(commit, name, where, fresh=False):
     return pkg
 
 
+def load_version(version, name, where, before_compile=None):
+    """Package ``name`` of ``version``: a commit (:func:`package_copy`) or a folder holding a copy of
+    ``src/noslipsim`` (copied to ``where/name``).
+
+    ``before_compile(name)`` runs after the import and before anything compiles (to set a
+    module constant the kernels read, such as ``energy.SETTLE_AT``).  The submodules the
+    benchmark cases use (``tables``, ``initial``) are imported as attributes of the package.
+    """
+    if os.path.isdir(version):
+        shutil.rmtree(os.path.join(where, name), ignore_errors=True)
+        shutil.copytree(version, os.path.join(where, name), ignore=shutil.ignore_patterns("__pycache__"))
+        if where not in sys.path:
+            sys.path.insert(0, where)
+    else:
+        package_copy(version, name, where, fresh=True)
+    pkg = importlib.import_module(name)
+    if before_compile is not None:
+        before_compile(name)
+    for sub in ("tables", "initial"):
+        importlib.import_module(f"{name}.{sub}")
+    return pkg
+
+
 def outputs(row):
     """The first 12 columns of a summary row as the kernel's outputs (ints where they are counts or cells)."""
     return tuple(int(row[k]) if k in INTS else float(row[k]) for k in range(12))
