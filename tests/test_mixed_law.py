@@ -326,3 +326,36 @@ def test_bad_law_names_refused(bad):
 def test_law_is_keyword_only():
     with pytest.raises(TypeError):
         Circle((0.0, 0.0), 1.0, "outside", "specular")
+
+
+def _specular_cell_with_noslip_disk():
+    """A scene whose default law is specular and whose disk (element 6) collides by the no-slip law."""
+    scene = tables.closed_hex_cell(0.4, law="specular", gamma=DISK, force=(0.0, -1.0))
+    return scene.replace(elements=[_with_law(e, "no-slip") if k == 6 else e for k, e in enumerate(scene.elements)])
+
+
+def test_phase_coordinates_follow_the_elements_laws_not_the_default_law():
+    """The spin is a phase variable wherever one element is no-slip, whatever the scene's default law.
+
+    A specular default with a no-slip disk draws spins and portrays ``(v_t, w)``; a no-slip
+    default whose every element is specular draws none and portrays Birkhoff's ``(s, p)``.
+    """
+    from noslipsim import initial
+    from noslipsim.analysis import islands
+    from noslipsim.analysis.log_portrait import paper_portrait
+
+    mixed = _specular_cell_with_noslip_disk()
+    assert mixed.law == "specular" and mixed.any_noslip
+    starts = islands.uniform_reduced_states(mixed, 200, seed=3)
+    assert "w_unit" in starts and "sin_angle" not in starts
+    assert np.max(np.abs(starts["spins"])) > 0.5
+    assert np.max(np.abs(initial.boundary_states(mixed, 200, seed=3)["spins"])) > 0.5
+    assert paper_portrait(mixed) == "velocity"
+
+    all_specular = one_law_cell("no-slip").replace(
+        elements=[_with_law(e, "specular") for e in one_law_cell("no-slip").elements])
+    assert all_specular.law == "no-slip" and not all_specular.any_noslip
+    starts = islands.uniform_reduced_states(all_specular, 200, seed=3)
+    assert "sin_angle" in starts and not np.any(starts["spins"])
+    assert not np.any(initial.boundary_states(all_specular, 200, seed=3)["spins"])
+    assert paper_portrait(all_specular) == "birkhoff"

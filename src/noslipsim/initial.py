@@ -124,7 +124,8 @@ def boundary_states(scene: Scene, n, seed=0, elements=None):
 
     Returns a dict with ``positions``, ``velocities``, ``spins`` and
     ``start_elements`` for :func:`noslipsim.simulate_many`.  Speeds are such
-    that ``|v|^2 + w^2 = 1``.  Only finite elements (segments, circles, arcs)
+    that ``|v|^2 + w^2 = 1``; the spin is drawn where some element collides by
+    the no-slip law (a table of mixed laws too), else it is 0.  Only finite elements (segments, circles, arcs)
     can be sampled; in a periodic scene the elements of cell 0 are used.
     """
     n = _count(n)
@@ -142,7 +143,7 @@ def boundary_states(scene: Scene, n, seed=0, elements=None):
         sel = pick == k
         pos[sel], n_out[sel] = _point_on(scene.elements[i], u[sel])
     t = np.c_[-n_out[:, 1], n_out[:, 0]]
-    if scene.law == "no-slip":
+    if scene.any_noslip:  # the spin takes part (some element collides by the no-slip law)
         z = rng.normal(size=(n, 3))
         z /= np.linalg.norm(z, axis=1, keepdims=True)
         w, vt, vn_in = z[:, 0], z[:, 1], np.abs(z[:, 2])

@@ -126,9 +126,11 @@ def _finite_elements(scene, elements):
 def uniform_reduced_states(scene: Scene, n, seed=0, *, elements=None, speed=1.0):
     """Boundary starts uniform in the invariant measure of the billiard map.
 
-    No-slip: ``s`` uniform along the chosen elements laid end to end and
-    ``(v_t, w)`` uniform on the unit disk (the measure ``ds dv_t dw``);
-    specular: ``s`` uniform and ``p = sin(exit angle)`` uniform in ``(-1, 1)``
+    No-slip (some element collides by the no-slip law, so the spin is a phase
+    variable: a table of mixed laws counts, whatever its default law): ``s``
+    uniform along the chosen elements laid end to end and ``(v_t, w)`` uniform
+    on the unit disk (the measure ``ds dv_t dw``, kept by both laws); specular
+    (every element): ``s`` uniform and ``p = sin(exit angle)`` uniform in ``(-1, 1)``
     with ``w = 0`` (the measure ``ds dp``).  The draws depend only on ``n`` and
     ``seed``, not on the table, so two tables (or two gammas) get the same
     starts in scaled coordinates (common random numbers).
@@ -164,7 +166,7 @@ def uniform_reduced_states(scene: Scene, n, seed=0, *, elements=None, speed=1.0)
     angle = rng.uniform(0.0, 2.0 * math.pi, n)
     # keep s off the very ends so a start never sits on a corner of two elements
     s = total * np.clip(u, 1e-12, 1.0 - 1e-12)
-    if scene.law == "specular":
+    if not scene.any_noslip:  # every element specular: no spin in the phase space
         p = np.clip(2.0 * radius**2 - 1.0, -1.0 + 1e-12, 1.0 - 1e-12)  # radius^2 is uniform in (0, 1)
         st = birkhoff_states(scene, s, p, elements=idx, speed=speed)
         st.update(s_boundary=s, sin_angle=p)

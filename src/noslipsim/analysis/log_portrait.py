@@ -27,8 +27,11 @@ PORTRAITS = {"velocity": ("v_t", "w"), "birkhoff": ("s", "p = sin(alpha)")}
 
 
 def paper_portrait(scene: Scene):
-    """``'velocity'`` for a no-slip scene, ``'birkhoff'`` for a specular one (the paper's choice)."""
-    return "velocity" if scene.law == "no-slip" else "birkhoff"
+    """``'velocity'`` where some element collides by the no-slip law (the spin takes part), else ``'birkhoff'``.
+
+    The paper's choice; a table of mixed laws counts as no-slip whatever its default law.
+    """
+    return "velocity" if scene.any_noslip else "birkhoff"
 
 
 def portrait_elements(scene: Scene):

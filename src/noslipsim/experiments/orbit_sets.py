@@ -75,7 +75,7 @@ def orbit_set(scenes, positions, velocities, spins=None, *, max_collisions=1000,
         "orbit": np.arange(n),
         "collision": np.arange(length),
         "law": ("orbit", [sc.law for sc in scenes]),
-        "gamma": ("orbit", [sc.gamma if sc.law == "no-slip" else math.nan for sc in scenes]),
+        "gamma": ("orbit", [sc.gamma if sc.any_noslip else math.nan for sc in scenes]),
     })
     ds.attrs.update(title="orbits", max_collisions=max_collisions, max_time=float(max_time),
                     stop_below=math.nan if stop_below is None else float(stop_below))

@@ -31,7 +31,8 @@ def _portrait_case(scene, n_orbits, n_collisions, seed, elements, lyapunov_colli
     rec = simulate_many(scene, start["positions"], start["velocities"], start["spins"], max_collisions=n_collisions,
                         record="portrait", elements=elements, chunk_size=chunk_size, scheduler=scheduler,
                         progress=progress, num_workers=num_workers)
-    coords = (birkhoff_coordinates if scene.law == "specular" else boundary_coordinate)(rec, scene, elements=elements)
+    specular = not scene.any_noslip  # no spin in the phase space: Birkhoff coordinates
+    coords = (birkhoff_coordinates if specular else boundary_coordinate)(rec, scene, elements=elements)
     o, p = ("orbit",), ("orbit", "point")
     data = {
         "element": (p, rec.element.values.astype(np.float32), rec.element.attrs),
@@ -45,7 +46,7 @@ def _portrait_case(scene, n_orbits, n_collisions, seed, elements, lyapunov_colli
         "vy_start": (o, start["velocities"][:, 1]),
         "spin_start": (o, start["spins"]),
     }
-    if scene.law == "specular":
+    if specular:
         data["sin_angle"] = (p, coords.sin_angle.values)
     if lyapunov_collisions is not None:
         exponent = islands.twin_lyapunov if lyapunov == "twin" else islands.finite_time_lyapunov
@@ -146,7 +147,7 @@ def portrait_set(scenes, labels, *, dim="case", n_orbits=20, n_collisions=1000, 
     ds["boundary_length"] = (case, np.array(lengths))
     per_case = {
         "law": [sc.law for sc in scenes],
-        "gamma": [sc.gamma if sc.law == "no-slip" else math.nan for sc in scenes],
+        "gamma": [sc.gamma if sc.any_noslip else math.nan for sc in scenes],
         "force_x": [sc.force[0] for sc in scenes],
         "force_y": [sc.force[1] for sc in scenes],
     }
