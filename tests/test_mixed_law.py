@@ -359,3 +359,26 @@ def test_phase_coordinates_follow_the_elements_laws_not_the_default_law():
     assert "sin_angle" in starts and not np.any(starts["spins"])
     assert not np.any(initial.boundary_states(all_specular, 200, seed=3)["spins"])
     assert paper_portrait(all_specular) == "birkhoff"
+
+
+def test_spin_keeps_its_bits_from_a_wall_to_the_next_collision():
+    """The energy settle after a specular wall corrects the velocity, not the spin.
+
+    Without force the correction goes to the pair ``(v_t, w)`` the last collision rotated
+    (:mod:`noslipsim.core.energy`); a specular wall rotates no such pair, and the wall and the
+    flight both keep the spin exactly, so from a wall to the next collision it keeps its bits.
+    Not vacuous: without force a flight keeps ``v`` exactly too, so every change of ``v``
+    between a wall and the next collision is a settle's, and there are some.
+    """
+    scene = mixed_cell(0.0)
+    _, log = log_of(scene, 100_000)
+    after_wall = log[:-1, layout.LOG_ELEMENT] < 6
+    assert after_wall.sum() > 50_000
+    w_out, w_next = log[:-1, layout.LOG_W][after_wall], log[1:, layout.LOG_W_IN][after_wall]
+    assert np.array_equal(bits(w_next), bits(w_out))
+    v_out = log[:-1][after_wall][:, [layout.LOG_VX, layout.LOG_VY]]
+    v_next = log[1:][after_wall][:, [layout.LOG_VX_IN, layout.LOG_VY_IN]]
+    settled = np.any(bits(v_next) != bits(v_out), axis=1)
+    assert settled.sum() >= 3
+    speed = np.hypot(v_out[:, 0], v_out[:, 1])
+    assert np.all(np.hypot(*(v_next - v_out).T) <= 1e-12 * speed)  # a rounding-sized correction

@@ -53,7 +53,9 @@ on flat walls parallel to the force stays exact, as it is in exact arithmetic
 no force and a spin that the law exchanges, it is the pair ``(v_t, w)`` the
 last collision rotated; the normal speed it reversed is left alone.  A
 specular law without force, and a thermostat (whose flight rounds the speed in
-every direction), scale the whole state.  Where the chosen part is too small to
+every direction), scale the whole state.  After a specular element of a table whose
+other elements are no-slip (:func:`settle_velocity`), which rotates no pair
+with the spin, the velocity takes it and the spin keeps its bits.  Where the chosen part is too small to
 take the correction (no velocity along the force, a grazing hit without spin), the
 next choice takes it (under a force the last pair, if the law mixes the spin
 in, then the whole state).
@@ -131,20 +133,12 @@ def settle(vx, vy, w, spin, ax, ay, qx, qy, has_force, e0, how=SETTLE_ALL, nx=0.
     the force passing through 0), the next choice takes it: the last pair if
     the law mixes the spin in, then the whole state.
     """
-    e, kin = state_energy(vx, vy, w, spin, ax, ay, qx, qy, has_force)
-    excess = e - e0
-    size = kin + abs(e - kin)  # the size of the terms
-    if SETTLE_AT * size < abs(excess) < MAX_EXCESS * size:
-        half = -0.5 * excess
+    half, kin = _half_excess(vx, vy, w, spin, ax, ay, qx, qy, has_force, e0)
+    if half != 0.0:
         if how == SETTLE_FORCE:
-            norm = math.hypot(ax, ay)
-            ux = ax / norm
-            uy = ay / norm
-            va = vx * ux + vy * uy
-            f = half / (va * va)
-            if abs(f) < MAX_SETTLE:
-                k = va * f
-                return vx + k * ux, vy + k * uy, w
+            fx, fy, done = _along_force(vx, vy, ax, ay, half)
+            if done:
+                return fx, fy, w
         if spin and how != SETTLE_ALL:  # the last pair: the first choice without force, the second with
             vt = vy * nx - vx * ny
             f = half / (vt * vt + w * w)
@@ -158,3 +152,52 @@ def settle(vx, vy, w, spin, ax, ay, qx, qy, has_force, e0, how=SETTLE_ALL, nx=0.
             if spin:
                 w += w * f
     return vx, vy, w
+
+
+@jit  # not inlined, as settle
+def settle_velocity(vx, vy, w, spin, ax, ay, qx, qy, has_force, e0, how=SETTLE_ALL):
+    """:func:`settle` after a collision that rotated no pair with the spin: the spin keeps its bits.
+
+    A specular element of a table whose other elements are no-slip reflects
+    ``v`` and keeps ``w`` exactly, as the flight does, so its rounding is in
+    ``v`` alone: under a force (``how == SETTLE_FORCE``) the velocity along
+    the force takes the correction, as in :func:`settle`; otherwise, or when
+    that part is too small, the whole velocity ``v``.
+    """
+    half = _half_excess(vx, vy, w, spin, ax, ay, qx, qy, has_force, e0)[0]
+    if half != 0.0:
+        if how == SETTLE_FORCE:
+            fx, fy, done = _along_force(vx, vy, ax, ay, half)
+            if done:
+                return fx, fy, w
+        f = half / (vx * vx + vy * vy)
+        if abs(f) < MAX_SETTLE:
+            vx += vx * f
+            vy += vy * f
+    return vx, vy, w
+
+
+@jit(inline="always")
+def _half_excess(vx, vy, w, spin, ax, ay, qx, qy, has_force, e0):
+    """``(-(E - e0) / 2, K)`` if ``E`` is off ``e0`` by more than ``SETTLE_AT`` (and less than ``MAX_EXCESS``)
+    of the size of its terms, else ``(0, K)`` (:func:`state_energy`)."""
+    e, kin = state_energy(vx, vy, w, spin, ax, ay, qx, qy, has_force)
+    excess = e - e0
+    size = kin + abs(e - kin)  # the size of the terms
+    if SETTLE_AT * size < abs(excess) < MAX_EXCESS * size:
+        return -0.5 * excess, kin
+    return 0.0, kin
+
+
+@jit(inline="always")
+def _along_force(vx, vy, ax, ay, half):
+    """``(vx, vy, done)``: ``half`` given to the velocity's component along ``(ax, ay)``, if it is large enough."""
+    norm = math.hypot(ax, ay)
+    ux = ax / norm
+    uy = ay / norm
+    va = vx * ux + vy * uy
+    f = half / (va * va)
+    if abs(f) < MAX_SETTLE:
+        k = va * f
+        return vx + k * ux, vy + k * uy, True
+    return vx, vy, False

@@ -24,7 +24,7 @@ import math
 
 from .cells import FAR_CELLS, far_hit_point, far_move, walk_hit
 from .disks import disk_lattice_kernel
-from .energy import SETTLE_EVERY, settle, settle_mode, state_energy
+from .energy import SETTLE_EVERY, settle, settle_mode, settle_velocity, state_energy
 from .events import advance, exact_line_hit, hit_in_cell, leaves_through_contact, slides_off
 from .geometry import copy_shift, lattice_shift, nearest_cell, place_on_element
 from .jit import SOURCE_STAMP, jit
@@ -446,7 +446,10 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                     stop = STOP_GRAZING
                     break
                 if n >= settle_next and n < max_collisions:  # (none after the last collision, as before)
-                    vx, vy, w = settle(vx, vy, w, mixes, ax, ay, x + ox, y + oy, potential, e0, how, nx, ny)
+                    if MIXED_ANY and mixes and law_e == SPECULAR:  # a specular element of a mixed table: the spin
+                        vx, vy, w = settle_velocity(vx, vy, w, mixes, ax, ay, x + ox, y + oy, potential, e0, how)
+                    else:                                          # keeps its bits (energy.settle_velocity)
+                        vx, vy, w = settle(vx, vy, w, mixes, ax, ay, x + ox, y + oy, potential, e0, how, nx, ny)
                     settle_next = n + SETTLE_EVERY
             if FAR_MOVE and stop == STOP_ESCAPE and t_hit < INF and has_force and lattice:
                 # a far hit under a force (walk status 2, t_hit finite): the plain hit point would carry eps x the
