@@ -53,12 +53,13 @@ on flat walls parallel to the force stays exact, as it is in exact arithmetic
 no force and a spin that the law exchanges, it is the pair ``(v_t, w)`` the
 last collision rotated; the normal speed it reversed is left alone.  A
 specular law without force, and a thermostat (whose flight rounds the speed in
-every direction), scale the whole state.  After a specular element of a table whose
-other elements are no-slip (:func:`settle_velocity`), which rotates no pair
-with the spin, the velocity takes it and the spin keeps its bits.  Where the chosen part is too small to
-take the correction (no velocity along the force, a grazing hit without spin), the
-next choice takes it (under a force the last pair, if the law mixes the spin
-in, then the whole state).
+every direction), scale the whole state.  After a specular element of a table
+whose spin takes part (a no-slip element elsewhere: :func:`settle_velocity`),
+which rotates no pair with the spin, the velocity takes it and the spin keeps
+its bits.  Where the chosen part is too small to take the correction (no
+velocity along the force, a grazing hit without spin), the next choice takes
+it (under a force the last pair, if the law mixes the spin in, then the whole
+state).
 """
 import math
 
@@ -158,8 +159,8 @@ def settle(vx, vy, w, spin, ax, ay, qx, qy, has_force, e0, how=SETTLE_ALL, nx=0.
 def settle_velocity(vx, vy, w, spin, ax, ay, qx, qy, has_force, e0, how=SETTLE_ALL):
     """:func:`settle` after a collision that rotated no pair with the spin: the spin keeps its bits.
 
-    A specular element of a table whose other elements are no-slip reflects
-    ``v`` and keeps ``w`` exactly, as the flight does, so its rounding is in
+    A specular element of a table whose spin takes part (a no-slip element
+    elsewhere) reflects ``v`` and keeps ``w`` exactly, as the flight does, so its rounding is in
     ``v`` alone: under a force (``how == SETTLE_FORCE``) the velocity along
     the force takes the correction, as in :func:`settle`; otherwise, or when
     that part is too small, the whole velocity ``v``.
