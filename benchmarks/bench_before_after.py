@@ -108,8 +108,18 @@ def scaled(make, spec, factor):
     return [*spec[:i], max(1, int(spec[i] * factor)), *spec[i + 1:]]
 
 
-def geomean(values):
-    return math.exp(statistics.fmean(math.log(v) for v in values))
+def time_in_turn(runs, rounds):
+    """``(rates, work)``: each run's rates over ``rounds`` rounds (every run once per round, the order
+    reversed every other round) and the work (collisions) of its last call."""
+    order = list(runs)
+    rates = {key: [] for key in order}
+    work = {}
+    for r in range(rounds):
+        for key in (order if r % 2 == 0 else order[::-1]):
+            t0 = time.perf_counter()
+            work[key] = runs[key]()
+            rates[key].append(work[key] / (time.perf_counter() - t0))
+    return rates, work
 
 
 def main():
@@ -132,16 +142,9 @@ def main():
         if args.only not in name:
             continue
         spec = scaled(make, spec, args.scale)
-        runs = {key: make(pkg, *spec) for key, pkg in pkgs.items()}
-        rates = {key: [] for key in runs}
-        order = list(runs)
-        for r in range(args.rounds):
-            for key in (order if r % 2 == 0 else order[::-1]):
-                t0 = time.perf_counter()
-                n = runs[key]()
-                rates[key].append(n / (time.perf_counter() - t0))
-        side_rate = {side: [geomean([rates[(side, k)][r] for k in range(args.copies)]) for r in range(args.rounds)]
-                     for side in ("before", "new")}
+        rates = time_in_turn({key: make(pkg, *spec) for key, pkg in pkgs.items()}, args.rounds)[0]
+        side_rate = {side: [statistics.geometric_mean([rates[(side, k)][r] for k in range(args.copies)])
+                            for r in range(args.rounds)] for side in ("before", "new")}
         ratios = [a / b for a, b in zip(side_rate["new"], side_rate["before"])]
         per_copy = " ".join(f"{statistics.median([a / b for a, b in zip(rates[('new', k)], side_rate['before'])]):.3f}"
                             for k in range(args.copies))

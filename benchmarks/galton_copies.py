@@ -23,10 +23,9 @@ import shutil
 import statistics
 import sys
 import tempfile
-import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from bench_before_after import CASES
+from bench_before_after import CASES, time_in_turn
 from package_copy import load_version
 
 
@@ -59,13 +58,7 @@ def main():
     versions = ", ".join(f"v{i} = {v}" for i, v in enumerate(args.versions))
     print(f"load at start: {os.getloadavg()}; versions: {versions}")
     names = list(runs)
-    rates = {n: [] for n in names}
-    work = {}
-    for r in range(args.rounds):
-        for n in (names if r % 2 == 0 else names[::-1]):
-            t0 = time.perf_counter()
-            work[n] = runs[n]()
-            rates[n].append(work[n] / (time.perf_counter() - t0))
+    rates, work = time_in_turn(runs, args.rounds)
     ref = rates[names[0]]
     for n in names:
         ratios = [a / b for a, b in zip(rates[n], ref)]

@@ -352,8 +352,8 @@ def test_phase_coordinates_follow_the_elements_laws_not_the_default_law():
     assert np.max(np.abs(initial.boundary_states(mixed, 200, seed=3)["spins"])) > 0.5
     assert paper_portrait(mixed) == "velocity"
 
-    all_specular = one_law_cell("no-slip").replace(
-        elements=[_with_law(e, "specular") for e in one_law_cell("no-slip").elements])
+    plain = one_law_cell("no-slip")
+    all_specular = plain.replace(elements=[_with_law(e, "specular") for e in plain.elements])
     assert all_specular.law == "no-slip" and not all_specular.any_noslip
     starts = islands.uniform_reduced_states(all_specular, 200, seed=3)
     assert "sin_angle" in starts and not np.any(starts["spins"])
