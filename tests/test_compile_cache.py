@@ -97,3 +97,31 @@ def test_a_cache_entry_holding_another_variants_code_is_refused(filled, tmp_path
     # an untouched variant in the same cache still runs
     assert probe(["disk:specular:final:sync"], cache) == {"disk:specular:final:sync":
                                                           filled[1]["disk:specular:final:sync"]}
+
+
+_ORDER = """
+import sys
+sys.path.insert(0, {tests!r})
+import cache_probe
+from noslipsim._engine.table import kernel_table
+from noslipsim.core.batch import batch_kernel
+from noslipsim.core.loop import orbit_kernel
+scene, _ = cache_probe._scene("galton", "no-slip")
+flags = kernel_table(scene).variant(0)
+cache_probe.run("galton:no-slip:final:sync")
+orbit, batch = orbit_kernel(*flags), batch_kernel(flags)
+assert batch.stats.cache_hits, "the batch kernel was compiled, not loaded: the test needs a filled cache"
+print(len(orbit.overloads), orbit.stats.cache_hits and 1)
+"""
+
+
+def test_a_cached_batch_kernel_runs_after_its_orbit_kernel_is_loaded(filled):
+    """numba links each callee into its caller as a weak definition, and the loader keeps the one loaded
+    first: a fresh process runs the orbit kernel's own code, a process that loads only the batch kernel ran
+    the batch's copy, 0.63 times as fast on the Galton board (benchmarks/RESULTS.md).  The orbit kernel is
+    loaded first (from the cache), so both run the same code."""
+    code = _ORDER.format(tests=str(Path(__file__).parent))
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          env=dict(os.environ, NUMBA_CACHE_DIR=str(filled[0])))
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert proc.stdout.split() == ["1", "1"]

@@ -27,7 +27,10 @@ fused ones.
 References: Knuth, TAOCP vol. 2, 4.2.2; Ogita, Rump & Oishi, "Accurate sum
 and dot product", SIAM J. Sci. Comput. 26 (2005).
 """
-from numba import types
+import math
+from fractions import Fraction
+
+from numba import config, types
 from numba.extending import intrinsic
 
 from .jit import jit
@@ -57,6 +60,14 @@ _fma._set_uuid("noslipsim-core-exact-fma")
 def fma(a, b, c):
     """``a b + c`` with a single rounding."""
     return _fma(a, b, c)
+
+
+if config.DISABLE_JIT:  # plain Python has no llvm.fma before 3.13: round the exact rational once
+    def fma(a, b, c):
+        """``a b + c`` with a single rounding (exact rationals: the kernels run as Python)."""
+        if not (math.isfinite(a) and math.isfinite(b) and math.isfinite(c)):
+            return a * b + c
+        return float(Fraction(a) * Fraction(b) + Fraction(c))
 
 
 @jit(inline="always")

@@ -40,7 +40,7 @@ import hashlib
 import os
 from pathlib import Path
 
-from numba import njit, prange  # noqa: F401  (prange re-exported for kernels)
+from numba import config, njit, prange  # noqa: F401  (prange re-exported for kernels)
 from numba.core.caching import FunctionCache
 
 try:
@@ -59,10 +59,11 @@ CORE = Path(__file__).parent
 
 
 def source_digest(folder=CORE):
-    """SHA-256 of every ``*.py`` file of ``folder`` (names and contents, in name order)."""
+    """SHA-256 of every ``*.py`` file under ``folder``, subfolders included (relative paths and contents,
+    in path order): every source a kernel can be built from."""
     h = hashlib.sha256()
-    for path in sorted(folder.glob("*.py")):
-        h.update(path.name.encode())
+    for path in sorted(folder.rglob("*.py"), key=lambda p: p.relative_to(folder).as_posix()):
+        h.update(path.relative_to(folder).as_posix().encode())
         h.update(path.read_bytes())
     return h.hexdigest()
 
@@ -146,6 +147,8 @@ def _lock_cache_writes(dispatcher):
 
 
 def _compile(func, options):
+    if config.DISABLE_JIT:  # NUMBA_DISABLE_JIT=1: kernels run as the Python they are (debugging, coverage)
+        return func
     _name_variant(func)
     dispatcher = njit(**options)(func)
     # the dispatcher's identity, pickled into the cache key of a closure that calls it (numba keys a
