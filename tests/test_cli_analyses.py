@@ -94,6 +94,33 @@ def test_animate_writes_a_gif_of_several_orbits(tmp_path, capsys):
     assert "wrote" in capsys.readouterr().out
 
 
+@pytest.mark.parametrize("scene, argv", [
+    (PEG, ["--position", "0.3", "2", "--velocity", "0.1", "0", "--position", "-0.8", "2.5", "--velocity", "0", "0",
+           "-n", "30"]),
+    (BOX, ["--position", "0.1", "0.1", "--velocity", "1", "0.3", "-n", "5", "--max-time", "30"]),
+])
+def test_animate_draws_no_orbit_past_its_last_computed_flight(scene, argv, tmp_path, capsys, monkeypatch):
+    from noslipsim import animation
+
+    drawn = {}
+    write = animation.animate
+
+    def spy(*args, **kwargs):  # what the command drew, as animation.animate reports it
+        drawn.update(write(*args, **kwargs))
+        return drawn
+
+    monkeypatch.setattr(animation, "animate", spy)
+    assert main(["animate", scene, *argv, "--duration", "1", "--fps", "10", "--dpi", "30",
+                 "-o", str(tmp_path / "a.gif")]) == 0
+    table = ns.Scene.from_yaml(scene)
+    for j, orbit in enumerate(drawn["orbits"]):
+        assert drawn["orbit_times"][j].max() <= float(orbit.t_final)
+        assert np.all(table.depth(drawn["positions"][j]) >= -1e-9)
+    x0, x1, y0, y1 = drawn["window"]
+    assert x0 > -4 and x1 < 4 and y0 > -1 and y1 < 4  # the table's size, not a flight through its walls
+    assert "orbit 1 stopped at t = " in capsys.readouterr().out
+
+
 @pytest.mark.parametrize("argv, fragments", [
     (["portrait", BOX, "--orbits", "0", "-o", "x.nc"], ["--orbits: must be >= 1"]),
     (["portrait", BOX, "--figure", "x.abc", "--orbits", "1", "-n", "5", "-o", "{tmp}/x.nc"],
@@ -107,6 +134,10 @@ def test_animate_writes_a_gif_of_several_orbits(tmp_path, capsys):
      ["--velocity: give one per --position (1), got 2"]),
     (["animate", BOX, "--position", "0.1", "0.1", "--velocity", "1", "0", "-o", "x.avi"], ["expected one of"]),
     (["explore", BOX, "--port", "70000", "--no-browser"], ["--port: expected 0 to 65535"]),
+    (["animate", BOX, "--position", "0.1", "0.1", "--velocity", "1", "0", "--dpi", "100000", "-o", "{tmp}/x.gif"],
+     ["--dpi: a frame of 600000 x 450000 pixels does not fit in memory"]),
+    (["ensemble", BOX, "--position", "0.1", "0.1", "--orbits", "1000000000000", "-o", "{tmp}/x.nc"],
+     ["--orbits: a run of 1000000000000 orbits does not fit in memory"]),
 ])
 def test_mistakes_are_one_line(argv, fragments, capsys, tmp_path):
     argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]

@@ -13,6 +13,10 @@ _OPTIONS = {
     "position": "--position", "velocity": "--velocity", "spin": "--spin",
     "max_collisions": "-n/--max-collisions", "max_time": "--max-time", "stop_below": "--stop-below",
     "positions": "--position",  # noslipsim ensemble: every orbit starts at --position
+    # noslipsim animate
+    "dpi": "--dpi", "duration": "--duration", "fps": "--fps", "dpi, duration, fps": "--dpi, --duration, --fps",
+    "duration, fps": "--duration, --fps", "trail": "--trail", "window": "--window", "radius": "--radius",
+    "output": "-o/--output",
 }
 
 
