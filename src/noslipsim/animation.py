@@ -245,9 +245,10 @@ def animate(scene: Scene, starts, output, *, max_collisions=30, max_time=None, d
     fmt = _format(output)
     duration = _positive(duration, "duration")
     fps = _positive(fps, "fps", integer=True)
-    n_frames = max(2, round(duration * fps))
-    if n_frames > MAX_FRAMES:
-        raise ValueError(f"duration, fps: {n_frames} frames is more than {MAX_FRAMES}; shorten the animation")
+    frames = duration * fps  # infinite for a duration near the largest float: refused, not rounded
+    if not round(min(frames, 2.0 * MAX_FRAMES)) <= MAX_FRAMES:
+        raise ValueError(f"duration, fps: {frames:.6g} frames is more than {MAX_FRAMES}; shorten the animation")
+    n_frames = max(2, round(frames))
     # every argument is checked before the orbits are simulated
     if trail is not None:
         trail = _positive(trail, "trail")
