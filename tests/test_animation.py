@@ -6,13 +6,14 @@ collision log (a frame drawn at a collision shows the particle at the
 logged point, on the wall); Pillow and ffmpeg reading the files back.
 """
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import noslipsim as ns
 from noslipsim import animation, tables
-from noslipsim.plot import collision_frames, flight_states, orbit_nodes
+from noslipsim.plot import collision_frames, flight_states, orbit_nodes, orbit_path, view_window
 
 PEG = tables.galton_board(spacing=2.0, radius=0.5, gravity=1.0)
 
@@ -124,14 +125,64 @@ def test_spin_marker_turns_at_w_over_gamma_r():
     np.testing.assert_array_equal(animation._spin_angles(nodes, times, flight, 0.0, radius), 0.0)
 
 
+#: Two orbits of examples/galton_peg.yaml whose 30 collisions end at t = 67.9 and 131.9.
+PEG_STARTS = [((0.3, 2.0), (0.1, 0.0)), ((-0.8, 2.5), (0.0, 0.0))]
+
+
+def assert_drawn_within_computed(scene, out):
+    """Every orbit drawn only where it was computed: never past ``t_final``, always in the table, in view."""
+    for j, orbit in enumerate(out["orbits"]):
+        assert out["orbit_times"][j].max() <= float(orbit.t_final), j
+        drawn = out["positions"][j]
+        assert np.all(scene.depth(drawn) >= -1e-9), (j, drawn[scene.depth(drawn) < -1e-9][:3])
+        np.testing.assert_allclose(drawn[-1], [float(orbit.x_final), float(orbit.y_final)], rtol=0, atol=1e-12)
+    # the view is the computed paths': no room kept for a flight that was never computed
+    paths = np.vstack([np.c_[orbit_path(o)] for o in out["orbits"]])
+    fit = view_window(scene, (paths[:, 0], paths[:, 1]), margin=0.06)
+    np.testing.assert_allclose(out["window"], fit, rtol=0, atol=1e-12)
+
+
+def test_an_orbit_that_ends_early_is_drawn_where_it_ended(tmp_path):
+    scene = _peg_scene()
+    out = animation.animate(scene, PEG_STARTS, tmp_path / "o.gif", max_collisions=30, duration=2.0, fps=10,
+                            dpi=30)
+    short, long = (float(o.t_final) for o in out["orbits"])
+    assert short < long == out["times"][-1]  # the case at stake: the first orbit ends half-way
+    assert_drawn_within_computed(scene, out)
+    stopped = out["orbit_times"][0] == short
+    assert stopped.sum() >= 9  # it is drawn, frozen, through the second half
+
+
+def test_a_time_limit_past_the_collision_budget_freezes_the_orbit(tmp_path):
+    scene = ns.Scene.from_yaml(str(Path(__file__).resolve().parents[1] / "examples" / "sinai_box.yaml"))
+    out = animation.animate(scene, [((0.1, 0.1), (1.0, 0.3))], tmp_path / "o.gif", max_collisions=5,
+                            max_time=30.0, duration=1.0, fps=10, dpi=30)
+    assert out["orbits"][0].attrs["stop_reason"] == "max_collisions" and out["times"][-1] == 30.0
+    assert_drawn_within_computed(scene, out)
+
+
+def test_an_escaping_orbit_flies_on(tmp_path):
+    scene = ns.Scene((ns.Line((0.0, 0.0), (0.0, 1.0)),), law="specular", force=(0.0, 0.0))
+    out = animation.animate(scene, [((0.0, 1.0), (0.5, -1.0))], tmp_path / "o.gif", max_collisions=5,
+                            max_time=3.0, duration=1.0, fps=4, dpi=30)
+    assert out["orbits"][0].attrs["stop_reason"] == "escape"  # its last flight was computed to meet no wall
+    np.testing.assert_allclose(out["positions"][0][-1], [1.5, 2.0], rtol=1e-12)
+
+
 @pytest.mark.parametrize("kwargs, message", [
     ({"output": "o.avi"}, "expected one of"),
     ({"duration": 0}, "duration: expected a positive number"),
     ({"fps": 2.5}, "fps: expected a positive integer"),
     ({"starts": []}, "starts: give at least one orbit"),
     ({"duration": 5000, "fps": 60}, "frames is more than"),
+    ({"dpi": 0}, "dpi: expected a positive integer"),
+    ({"dpi": 100_000}, r"dpi: a frame of 600000 x 450000 pixels does not fit in memory"),
+    ({"window": (0, -1, 0, 1)}, "window: expected finite"),
+    ({"radius": -1}, "radius: expected a positive number"),
+    ({"max_time": math.inf}, "max_time: expected a positive number"),
 ])
-def test_bad_requests_are_refused(tmp_path, kwargs, message):
+def test_bad_requests_are_refused_before_any_orbit_is_simulated(tmp_path, kwargs, message, monkeypatch):
+    monkeypatch.setattr(animation, "simulate", None)  # simulating now would fail with a TypeError
     args = {"scene": PEG, "starts": [((1.0, 0.0), (0.0, -1.0), 0.0)], "output": tmp_path / "o.gif"}
     args.update({k: (tmp_path / v if k == "output" else v) for k, v in kwargs.items()})
     with pytest.raises(ValueError, match=message):

@@ -94,6 +94,33 @@ def test_animate_writes_a_gif_of_several_orbits(tmp_path, capsys):
     assert "wrote" in capsys.readouterr().out
 
 
+@pytest.mark.parametrize("scene, argv", [
+    (PEG, ["--position", "0.3", "2", "--velocity", "0.1", "0", "--position", "-0.8", "2.5", "--velocity", "0", "0",
+           "-n", "30"]),
+    (BOX, ["--position", "0.1", "0.1", "--velocity", "1", "0.3", "-n", "5", "--max-time", "30"]),
+])
+def test_animate_draws_no_orbit_past_its_last_computed_flight(scene, argv, tmp_path, capsys, monkeypatch):
+    from noslipsim import animation
+
+    drawn = {}
+    write = animation.animate
+
+    def spy(*args, **kwargs):  # what the command drew, as animation.animate reports it
+        drawn.update(write(*args, **kwargs))
+        return drawn
+
+    monkeypatch.setattr(animation, "animate", spy)
+    assert main(["animate", scene, *argv, "--duration", "1", "--fps", "10", "--dpi", "30",
+                 "-o", str(tmp_path / "a.gif")]) == 0
+    table = ns.Scene.from_yaml(scene)
+    for j, orbit in enumerate(drawn["orbits"]):
+        assert drawn["orbit_times"][j].max() <= float(orbit.t_final)
+        assert np.all(table.depth(drawn["positions"][j]) >= -1e-9)
+    x0, x1, y0, y1 = drawn["window"]
+    assert x0 > -4 and x1 < 4 and y0 > -1 and y1 < 4  # the table's size, not a flight through its walls
+    assert "orbit 1 stopped at t = " in capsys.readouterr().out
+
+
 @pytest.mark.parametrize("argv, fragments", [
     (["portrait", BOX, "--orbits", "0", "-o", "x.nc"], ["--orbits: must be >= 1"]),
     (["portrait", BOX, "--figure", "x.abc", "--orbits", "1", "-n", "5", "-o", "{tmp}/x.nc"],
@@ -107,6 +134,10 @@ def test_animate_writes_a_gif_of_several_orbits(tmp_path, capsys):
      ["--velocity: give one per --position (1), got 2"]),
     (["animate", BOX, "--position", "0.1", "0.1", "--velocity", "1", "0", "-o", "x.avi"], ["expected one of"]),
     (["explore", BOX, "--port", "70000", "--no-browser"], ["--port: expected 0 to 65535"]),
+    (["animate", BOX, "--position", "0.1", "0.1", "--velocity", "1", "0", "--dpi", "100000", "-o", "{tmp}/x.gif"],
+     ["--dpi: a frame of 600000 x 450000 pixels does not fit in memory"]),
+    (["ensemble", BOX, "--position", "0.1", "0.1", "--orbits", "1000000000000", "-o", "{tmp}/x.nc"],
+     ["--orbits: a run of 1000000000000 orbits does not fit in memory"]),
 ])
 def test_mistakes_are_one_line(argv, fragments, capsys, tmp_path):
     argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]
@@ -145,3 +176,90 @@ def test_plot_of_a_table_with_an_infinite_line_shows_the_table():
     x0, x1, y0, y1 = _plot_window(torus, np.array([0.4]), np.array([0.1]))
     assert x0 <= -1.5 and x1 >= 1.5  # cell 0 and one cell on every side
     assert math.isfinite(x0 + x1 + y0 + y1)
+
+
+# ---------------------------------------------------------------------------- refused before any work
+ORBIT = ["--position", "0.1", "0.1", "--velocity", "1", "0.3"]
+
+
+@pytest.mark.parametrize("argv, fragments", [
+    (["simulate", BOX, *ORBIT, "-o", "{tmp}/o.csv"], ["-o/--output", "netCDF"]),
+    (["plot", BOX, *ORBIT, "-o", "{tmp}/o.xyz"], ["-o/--output: unknown image format 'xyz'"]),
+    (["run", "{tmp}/exp.yaml", "-o", "{tmp}/o.txt"], ["-o/--output", "netCDF"]),
+    (["portrait", BOX, "-o", "{tmp}/o.nc", "--figure", "{tmp}/o.xyz"], ["--figure: unknown image format 'xyz'"]),
+    (["portrait", BOX, "-o", "{tmp}/o.csv"], ["-o/--output", "netCDF"]),
+    (["ensemble", BOX, "--position", "0.1", "0.1", "-o", "{tmp}/o.nc", "--figure", "{tmp}/o.xyz"],
+     ["--figure: unknown image format 'xyz'"]),
+    (["periodic", BOX, *ORBIT, "--period", "2", "-o", "{tmp}/o.nc", "--figure", "{tmp}/o.xyz"],
+     ["--figure: unknown image format 'xyz'"]),
+    (["lyapunov", BOX, *ORBIT, "-o", "{tmp}/o.nc", "--figure", "{tmp}/o"], ["--figure: unknown image format ''"]),
+    (["animate", BOX, *ORBIT, "-o", "{tmp}/o.avi"], ["-o/--output: unknown animation format 'avi'"]),
+    (["simulate", BOX, *ORBIT, "-o", "{tmp}/exp.yaml/o.nc"], ["-o/--output: cannot write", "is a file, not a folder"]),
+    (["ensemble", BOX, "--position", "0.1", "0.1", "-o", "{tmp}/o.nc", "--figure", "{tmp}/sub"],
+     ["--figure: ", "is a folder"]),
+    (["plot", BOX, *ORBIT, "-o", "{tmp}/exp.yaml/deeper/o.png"], ["-o/--output: cannot write"]),
+])
+def test_an_output_that_cannot_be_written_is_refused_before_any_work(argv, fragments, tmp_path, capsys,
+                                                                     monkeypatch):
+    from noslipsim import cli
+
+    (tmp_path / "exp.yaml").write_text("experiment: galton_distribution\n")
+    (tmp_path / "sub").mkdir()
+    before = sorted(tmp_path.rglob("*"))
+    monkeypatch.setitem(cli.COMMANDS, argv[0], None)  # running the command at all would be an internal error
+    argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]
+    assert_one_line_error(*run_main(argv, capsys), *fragments)
+    assert sorted(tmp_path.rglob("*")) == before  # nothing written
+
+
+@pytest.mark.parametrize("argv, fragments", [
+    (["plot", BOX, *ORBIT, "--window", "0", "-1", "0", "1", "-o", "{tmp}/o.png"], ["--window: expected finite"]),
+    (["plot", BOX, *ORBIT, "--spin-every", "0", "-o", "{tmp}/o.png"], ["--spin-every: must be >= 1"]),
+    (["periodic", BOX, *ORBIT, "--period", "1000000", "--periods", "1000000", "-o", "{tmp}/o.nc"],
+     ["--period, --periods: a log of 1000000000000 collisions does not fit in memory"]),
+    (["animate", BOX, *ORBIT, "--radius", "0", "-o", "{tmp}/o.gif"], ["--radius: expected a positive number"]),
+    (["animate", BOX, *ORBIT, "--window", "0", "1", "1", "1", "-o", "{tmp}/o.gif"], ["--window: expected finite"]),
+])
+def test_options_are_checked_before_any_orbit_is_simulated(argv, fragments, tmp_path, capsys, monkeypatch):
+    import importlib
+
+    # simulating or searching now would be an internal error
+    for module, name in (("noslipsim.simulate", "simulate"), ("noslipsim.animation", "simulate"),
+                         ("noslipsim.analysis", "find_periodic_orbit")):
+        monkeypatch.setattr(importlib.import_module(module), name, None)
+    argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]
+    assert_one_line_error(*run_main(argv, capsys), *fragments)
+    assert list(tmp_path.iterdir()) == []
+
+
+# ---------------------------------------------------------------------------- messages
+def test_periodic_says_what_happened_when_the_found_orbit_does_not_close_again(tmp_path, capsys):
+    # Newton closes the map to rounding here, but the orbit re-run from its state does not close
+    status, err = run_main(["periodic", PEG, "--position", "0.9", "0.5", "--velocity", "1", "0", "--period", "3",
+                            "-o", str(tmp_path / "p.nc")], capsys)
+    assert_one_line_error(status, err, "--position/--velocity: the search reached residual",
+                          "does not close after 3 collisions", "no 3-periodic orbit is confirmed")
+    assert "not found" not in err and not (tmp_path / "p.nc").exists()
+
+
+def test_periodic_has_no_collision_option_and_its_help_no_unused_one(capsys):
+    assert_one_line_error(*run_main(["periodic", BOX, *ORBIT, "--period", "2", "-n", "5", "-o", "p.nc"], capsys),
+                          "unrecognized arguments: -n 5")
+    with pytest.raises(SystemExit):
+        main(["periodic", "--help"])
+    assert "not used" not in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("law, kind, fragments", [
+    ("no-slip", [], ["velocity portrait (v_t, w)"]),
+    ("specular", [], ["Birkhoff portrait"]),
+    ("no-slip", ["--kind", "birkhoff"], ["Birkhoff portrait"]),
+])
+def test_a_portrait_of_lines_only_names_the_portrait_of_the_scene(law, kind, fragments, tmp_path, capsys):
+    wedge = tmp_path / "wedge.yaml"
+    wedge.write_text(f"law: {law}\nforce: [0, -1]\nelements:\n  - {{type: line, point: [0, 0], normal: [0.8, 0.6]}}\n"
+                     "  - {type: line, point: [0, 0], normal: [-0.8, 0.6]}\n")
+    status, err = run_main(["portrait", str(wedge), *kind, "-o", str(tmp_path / "w.nc")], capsys)
+    assert_one_line_error(status, err, "every element is an infinite line", *fragments)
+    if law == "no-slip" and not kind:
+        assert "Birkhoff" not in err

@@ -139,6 +139,56 @@ def count(value, field, minimum=1):
     return int(value)
 
 
+def memory_bytes():
+    """This machine's physical memory in bytes, or ``None`` where the system does not say."""
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (AttributeError, OSError, ValueError):
+        return None
+
+
+def _too_big(n_bytes, field, what, hint):
+    tail = f"; {hint}" if hint else ""
+    return ValueError(f"{field}: {what} does not fit in memory ({n_bytes / 2**30:.3g} GiB){tail}")
+
+
+def check_memory(n_bytes, field, what, hint=""):
+    """Refuse, before any work, to hold ``n_bytes`` at once when they exceed this machine's memory.
+
+    A request that size would end in a ``MemoryError`` (or the system killing
+    the process) only after the work before it; the refusal names the option.
+
+    Parameters
+    ----------
+    n_bytes : int or float
+        Bytes the request would hold at once.
+    field : str
+        The option or argument at fault, as the user wrote it.
+    what : str
+        What would be held, e.g. ``"a log of 10 collisions"``.
+    hint : str
+        What to do instead (appended after a semicolon).
+
+    Raises
+    ------
+    ValueError
+        ``field: what does not fit in memory (N GiB); hint``.
+    """
+    total = memory_bytes()
+    if total is not None and n_bytes > total:
+        raise _too_big(n_bytes, field, what, hint)
+
+
+def zeros(shape, field, what, hint=""):
+    """``numpy.zeros(shape)`` (float), refused as :func:`check_memory` refuses, or when allocating fails."""
+    n_bytes = 8 * math.prod(int(k) for k in shape)
+    check_memory(n_bytes, field, what, hint)
+    try:
+        return np.zeros(shape)
+    except MemoryError:  # within the machine's memory, but not free now
+        raise _too_big(n_bytes, field, what, hint) from None
+
+
 def one_line(err):
     """The message of an error on one line (an OSError as ``path: reason``): what the CLI and the explorer show."""
     if isinstance(err, OSError) and err.filename is not None and err.strerror:

@@ -8,6 +8,12 @@ drawn at the collision's exact time (:func:`noslipsim.plot.collision_frames`,
 a shift of at most half a frame), so the particle is drawn touching the wall
 it hits in that frame.
 
+An orbit is never drawn beyond what was computed: one that ends before the
+animation does (its collision budget spent, a corner, a level crossed) stays
+at the state where it ended, drawn hollow, and the corner of the view says
+when and why it stopped; the view is fitted to the computed paths only.  An
+escaping orbit flies on: its last flight was computed to meet no wall.
+
 The particle is drawn as a disk of radius ``R`` centred on the (point)
 particle, with a spin marker, a radius that turns at the angular velocity
 
@@ -29,8 +35,18 @@ import shutil
 
 import numpy as np
 
+from ._validate import check_memory
 from .analysis.log_portrait import PORTRAITS, boundary_length, log_portrait, paper_portrait
-from .plot import collision_frames, draw_table, flight_states, orbit_colors, orbit_nodes, style_context, view_window
+from .plot import (
+    check_window,
+    collision_frames,
+    draw_table,
+    flight_states,
+    orbit_colors,
+    orbit_nodes,
+    style_context,
+    view_window,
+)
 from .scenes import Scene
 from .simulate import simulate
 
@@ -42,6 +58,10 @@ FORMATS = ("gif", "mp4")
 TRAIL_POINTS = 16
 #: At most this many frames (a longer animation is almost surely a mistake in --duration or --fps).
 MAX_FRAMES = 20_000
+#: Frame size in inches, without and with the portrait panel.
+FRAME_INCHES = {False: (6.0, 4.5), True: (10.5, 4.5)}
+#: Bytes per pixel held for every frame at once: Agg's RGBA canvas, the saved background and the RGB frame.
+FRAME_BYTES = 4 + 4 + 3
 
 
 def ffmpeg_executable():
@@ -119,6 +139,18 @@ def _positive(value, name, integer=False):
     return int(value) if integer else float(value)
 
 
+def _check_frames(dpi, portrait, n_frames, fmt):
+    """``dpi`` as a positive integer whose frames fit in memory (Pillow holds every GIF frame until written)."""
+    dpi = _positive(dpi, "dpi", integer=True)
+    w, h = (round(inches * dpi) for inches in FRAME_INCHES[bool(portrait)])
+    size = f"{w} x {h} pixels"
+    check_memory(w * h * FRAME_BYTES, "dpi", f"a frame of {size}", "lower the dpi")
+    held = n_frames if fmt == "gif" else 0  # one byte a pixel once reduced to its palette
+    check_memory(w * h * (FRAME_BYTES + held), "dpi, duration, fps", f"{n_frames} frames of {size}",
+                 "lower the dpi or the number of frames, or write .mp4")
+    return dpi
+
+
 def _start_tuple(start, i):
     if isinstance(start, dict):
         return start["position"], start["velocity"], start.get("spin", 0.0)
@@ -139,6 +171,17 @@ def _flight_samples(nodes, t_end):
     x = (nodes["x"][:, None] + nodes["vx"][:, None] * tau + 0.5 * ax * tau ** 2).ravel()
     y = (nodes["y"][:, None] + nodes["vy"][:, None] * tau + 0.5 * ay * tau ** 2).ravel()
     return t, x, y
+
+
+def _computed_end(orbit):
+    """The last time the orbit's state is known: ``t_final``, or infinity for an escape (no wall ahead)."""
+    return math.inf if orbit.attrs["stop_reason"] == "escape" else float(orbit.t_final)
+
+
+def _ended_note(orbits, ends, t_now):
+    """One line per orbit that has stopped by ``t_now``: which, when and why (empty when none has)."""
+    return "\n".join(f"orbit {j + 1} stopped at t = {end:.3f} ({o.attrs['stop_reason']})"
+                     for j, (o, end) in enumerate(zip(orbits, ends, strict=True)) if end < t_now)
 
 
 def _spin_angles(nodes, times, flight, gamma, radius):
@@ -191,42 +234,56 @@ def animate(scene: Scene, starts, output, *, max_collisions=30, max_time=None, d
         ``output``, ``frames`` (count), ``times`` (F,) the evenly spaced frame
         times, ``orbit_times`` (orbits, F) the time each orbit is drawn at,
         ``collision_frames`` (one int array per orbit: the frames drawn at a
-        collision), ``orbits`` (the simulated orbits) and ``radius``.
+        collision), ``orbits`` (the simulated orbits), ``radius``, ``window``
+        (the region shown) and ``positions`` (orbits, F, 2) the centre of each
+        particle drawn in each frame.  An orbit that ended before the animation
+        does is drawn, hollow, where it ended: ``orbit_times`` never pass its
+        ``t_final`` (an escape excepted: its last flight meets no wall).
     """
     if not isinstance(scene, Scene):
         raise ValueError(f"scene: expected a noslipsim.Scene, got {type(scene).__name__}")
     fmt = _format(output)
     duration = _positive(duration, "duration")
     fps = _positive(fps, "fps", integer=True)
-    n_frames = max(2, round(duration * fps))
-    if n_frames > MAX_FRAMES:
-        raise ValueError(f"duration, fps: {n_frames} frames is more than {MAX_FRAMES}; shorten the animation")
+    frames = duration * fps  # infinite for a duration near the largest float: refused, not rounded
+    if not round(min(frames, 2.0 * MAX_FRAMES)) <= MAX_FRAMES:
+        raise ValueError(f"duration, fps: {frames:.6g} frames is more than {MAX_FRAMES}; shorten the animation")
+    n_frames = max(2, round(frames))
+    # every argument is checked before the orbits are simulated
     if trail is not None:
         trail = _positive(trail, "trail")
+    if max_time is not None:
+        max_time = _positive(max_time, "max_time")
+    if window is not None:
+        window = check_window(window)
+    if radius is not None:
+        radius = _positive(radius, "radius")
+    dpi = _check_frames(dpi, portrait, n_frames, fmt)
     if not starts:
         raise ValueError("starts: give at least one orbit")
     writer_path = ffmpeg_executable() if fmt == "mp4" else None  # fail before simulating
     orbits = [simulate(scene, *_start_tuple(st, i), max_collisions=max_collisions,
                        max_time=math.inf if max_time is None else max_time) for i, st in enumerate(starts)]
-    if max_time is None:
-        t_show = max(float(o.t_final) for o in orbits)
-        if not t_show > 0.0:
-            raise ValueError("max_collisions: the orbits have no collision to show; give max_time")
-    else:
-        t_show = _positive(max_time, "max_time")
+    ends = [_computed_end(o) for o in orbits]
+    t_show = max(float(o.t_final) for o in orbits) if max_time is None else max_time
+    if not t_show > 0.0:
+        raise ValueError("max_collisions: the orbits have no collision to show; give max_time")
     nodes = [orbit_nodes(o) for o in orbits]
     times = np.linspace(0.0, t_show, n_frames)
-    samples = [_flight_samples(nd, t_show) for nd in nodes]
+    # the trails and the view stop where each orbit's computed path does
+    samples = [_flight_samples(nd, min(end, t_show)) for nd, end in zip(nodes, ends, strict=True)]
     if window is None:
         px = np.concatenate([s[1][s[0] <= t_show] for s in samples])
         py = np.concatenate([s[2][s[0] <= t_show] for s in samples])
         window = view_window(scene, (px, py), margin=0.06)
     x0, x1, y0, y1 = window
-    radius = 0.025 * max(x1 - x0, y1 - y0) if radius is None else _positive(radius, "radius")
+    if radius is None:
+        radius = 0.025 * max(x1 - x0, y1 - y0)
 
     per_orbit, hits, states, angles = [], [], [], []
-    for nd in nodes:
+    for nd, end in zip(nodes, ends, strict=True):
         t_draw, hit = collision_frames(times, nd["t"][1:])
+        t_draw = np.minimum(t_draw, end)  # an orbit that has stopped stays where it stopped
         st = flight_states(nd, t_draw)
         per_orbit.append(t_draw)
         hits.append(np.flatnonzero(hit))
@@ -244,11 +301,12 @@ def animate(scene: Scene, starts, output, *, max_collisions=30, max_time=None, d
 
     colors = orbit_colors(len(orbits))
     with style_context():
-        fig = plt.figure(figsize=(10.5 if portrait else 6.0, 4.5), dpi=dpi)
+        fig = plt.figure(figsize=FRAME_INCHES[bool(portrait)], dpi=dpi)
         ax = fig.add_subplot(1, 2 if portrait else 1, 1)
         draw_table(ax, scene, window)
         ax.set_title(f"{scene.law}, gamma = {scene.gamma:.4g}, force = {list(scene.force)}", fontsize="small")
         clock = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", fontsize="small")
+        stopped = ax.text(0.98, 0.97, "", transform=ax.transAxes, va="top", ha="right", fontsize="x-small")
         trails, disks, markers = [], [], []
         for c in colors:
             (line,) = ax.plot([], [], color=c, linewidth=0.9, alpha=0.7, zorder=3)
@@ -275,6 +333,7 @@ def animate(scene: Scene, starts, output, *, max_collisions=30, max_time=None, d
 
         def update(k):
             clock.set_text(f"t = {times[k]:.3f}")
+            stopped.set_text(_ended_note(orbits, ends, times[k]))
             for j, nd in enumerate(nodes):
                 t_now = per_orbit[j][k]
                 ts, xs, ys = samples[j]
@@ -282,6 +341,7 @@ def animate(scene: Scene, starts, output, *, max_collisions=30, max_time=None, d
                 cx, cy = float(states[j]["x"][k]), float(states[j]["y"][k])
                 trails[j].set_data(np.append(xs[keep], cx), np.append(ys[keep], cy))
                 disks[j].center = (cx, cy)
+                disks[j].set_facecolor("none" if ends[j] < times[k] else (*colors[j][:3], 0.35))
                 a = angles[j][k]
                 markers[j].set_data([cx, cx + radius * math.cos(a)], [cy, cy + radius * math.sin(a)])
                 if portrait:
@@ -290,7 +350,7 @@ def animate(scene: Scene, starts, output, *, max_collisions=30, max_time=None, d
                     dots[j].set_offsets(np.c_[mx[:seen], my[:seen]])
 
         # the table, axes and labels are drawn once; each frame redraws only what moves on top of them
-        moving = [clock, *trails, *disks, *markers, *(dots if portrait else [])]
+        moving = [clock, stopped, *trails, *disks, *markers, *(dots if portrait else [])]
         for artist in moving:
             artist.set_animated(True)
         fig.canvas.draw()
@@ -312,4 +372,5 @@ def animate(scene: Scene, starts, output, *, max_collisions=30, max_time=None, d
         finally:
             plt.close(fig)
     return {"output": str(output), "frames": n_frames, "times": times, "orbit_times": np.array(per_orbit),
-            "collision_frames": hits, "orbits": orbits, "radius": radius}
+            "collision_frames": hits, "orbits": orbits, "radius": radius, "window": tuple(window),
+            "positions": np.array([np.c_[st["x"], st["y"]] for st in states])}

@@ -14,7 +14,7 @@ from ._engine.lattice import cell_of, cell_origin
 from ._engine.run import run_orbits
 from ._engine.table import kernel_table
 from ._metadata import annotate
-from ._validate import finite_float, finite_vector
+from ._validate import finite_float, finite_vector, zeros
 from ._version import __version__
 from .core import layout
 from .core.batch import F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y
@@ -182,12 +182,8 @@ def simulate(scene: Scene, position: ArrayLike, velocity: ArrayLike, spin: float
     level = check_level(stop_below)
     if level >= q[1]:
         raise ValueError(f"stop_below: {level} must lie below the start height {q[1]}")
-    try:
-        rec = np.zeros((max_collisions, layout.N_LOG))
-    except MemoryError:
-        raise ValueError(f"max_collisions: a log of {max_collisions} collisions does not fit in memory "
-                         f"({max_collisions * layout.N_LOG * 8 / 2**30:.3g} GiB); for long orbits use "
-                         "simulate_many(..., record='final')") from None
+    rec = zeros((max_collisions, layout.N_LOG), "max_collisions", f"a log of {max_collisions} collisions",
+                "for long orbits use simulate_many(..., record='final')")
     out = run_one(scene, q, v, w, max_collisions, max_time, level, layout.RECORD_LOG, rec)
     _n, stop, n_corner, n_rec, final, cell = out
     return _orbit_dataset(scene, rec[:n_rec], stop, n_corner, final, cell,

@@ -34,8 +34,14 @@ def paper_portrait(scene: Scene):
     return "velocity" if scene.any_noslip else "birkhoff"
 
 
-def portrait_elements(scene: Scene):
+def portrait_elements(scene: Scene, kind=None):
     """The finite elements (segments, circles, arcs), laid end to end by Birkhoff's ``s``.
+
+    Parameters
+    ----------
+    scene : Scene
+    kind : {'velocity', 'birkhoff'}, optional
+        The portrait they are chosen for (default :func:`paper_portrait`), named when there are none.
 
     Raises
     ------
@@ -44,8 +50,12 @@ def portrait_elements(scene: Scene):
     """
     chosen = [k for k, e in enumerate(scene.elements) if math.isfinite(e.length())]
     if not chosen:
-        raise ValueError("scene: every element is an infinite line, so the table has no boundary "
-                         "coordinate s for a Birkhoff portrait")
+        if (kind or paper_portrait(scene)) == "birkhoff":
+            raise ValueError("scene: every element is an infinite line, so the table has no boundary "
+                             "coordinate s for a Birkhoff portrait")
+        raise ValueError("scene: every element is an infinite line, so the table has no finite element "
+                         "(segment, circle, arc) for a velocity portrait (v_t, w) to start its orbits on and "
+                         "record their collisions with")
     return chosen
 
 

@@ -21,7 +21,7 @@ import math
 import sys
 
 from .._version import __version__
-from .options import EXIT_INTERNAL, EXIT_USAGE, _orbit_arguments, _Parser, _start_errors
+from .options import EXIT_INTERNAL, EXIT_USAGE, _orbit_arguments, _Parser, _start_errors, check_outputs
 
 
 def _parser():
@@ -75,12 +75,10 @@ def _experiment_names():
 
 # ---------------------------------------------------------------------------- commands
 def _simulate(args):
-    from ..io import check_dataset_path, write_dataset
+    from ..io import write_dataset
     from ..scenes import Scene
     from ..simulate import simulate
 
-    if args.output:
-        check_dataset_path(args.output, "-o/--output")
     scene = Scene.from_yaml(args.scene)
     ds = _start_errors(simulate, scene, args.position, args.velocity, args.spin,
                        max_collisions=args.max_collisions, max_time=args.max_time, stop_below=args.stop_below)
@@ -103,23 +101,18 @@ def _plot(args):
     from ..scenes import Scene
     from ..simulate import simulate
 
+    if args.window is not None:
+        _start_errors(plot.check_window, args.window)
+    if args.spin_every is not None and args.spin_every < 1:
+        raise ValueError(f"--spin-every: must be >= 1, got {args.spin_every}")
     scene = Scene.from_yaml(args.scene)
     orbit = _start_errors(simulate, scene, args.position, args.velocity, args.spin,
                           max_collisions=args.max_collisions, max_time=args.max_time, stop_below=args.stop_below)
-    ext = os.path.splitext(args.output)[1].lower().lstrip(".")
-    formats = plt.figure().canvas.get_supported_filetypes()
-    plt.close("all")
-    if ext not in formats:
-        raise ValueError(f"-o/--output: unknown image format {ext!r} of {args.output!r}; "
-                         f"expected one of {sorted(formats)}")
     with plot.style_context():
         fig, ax = plt.subplots(figsize=(5.0, 4.0))
         x, y = plot.orbit_path(orbit)
         window = args.window if args.window is not None else _plot_window(scene, x, y)
-        try:
-            plot.draw_table(ax, scene, window)
-        except ValueError as err:  # the window is the only thing the user chose here
-            raise ValueError(f"--window: {str(err).partition(': ')[2] or err}") from None
+        plot.draw_table(ax, scene, window)
         plot.draw_orbit(ax, orbit, spin_every=args.spin_every)
         ax.set_title(f"{os.path.basename(args.scene)}: {scene.law}, {int(orbit.n_collisions)} collisions "
                      f"({orbit.attrs['stop_reason']})", fontsize="small")
@@ -140,9 +133,8 @@ def _plot_window(scene, x, y):
 def _run_experiment(args):
     from .._validate import read_yaml
     from ..experiments import EXPERIMENTS
-    from ..io import check_dataset_path, write_dataset
+    from ..io import write_dataset
 
-    check_dataset_path(args.output, "-o/--output")
     cfg, where = read_yaml(args.config, "config")
     if not isinstance(cfg, dict) or "experiment" not in cfg or set(cfg) - {"experiment", "parameters"}:
         raise ValueError(f"{where}: expected a mapping with keys 'experiment' and (optionally) 'parameters', "
@@ -194,6 +186,7 @@ def main(argv=None):
     """Run the command line; returns the exit status (0, 2 for a user error, 1 for a bug)."""
     args = _parser().parse_args(argv)
     try:
+        check_outputs(args)  # a file that cannot be written is refused before any work
         COMMANDS[args.command](args)
     except (ValueError, TypeError, OSError) as err:
         if args.debug:

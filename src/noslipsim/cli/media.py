@@ -72,7 +72,15 @@ def animate(args):
                         trail=args.trail, window=args.window, radius=args.radius, dpi=args.dpi)
     hits = sum(len(h) for h in out["collision_frames"])
     print(f"wrote {args.output} ({out['frames']} frames, {n} orbit{'s' * (n > 1)}, "
-          f"{hits} frames drawn at a collision)")
+          f"{hits} frames drawn at a collision)" + _stopped(out))
+
+
+def _stopped(out):
+    """``; orbit 2 stopped at t = ... (reason) and is drawn there from then on`` for each orbit that ended early."""
+    t_show = out["times"][-1]
+    notes = [f"orbit {j + 1} stopped at t = {float(o.t_final):.4g} ({o.attrs['stop_reason']})"
+             for j, o in enumerate(out["orbits"]) if out["orbit_times"][j][-1] < t_show]
+    return f"; {', '.join(notes)}, drawn where it stopped from then on" if notes else ""
 
 
 def explore(args):

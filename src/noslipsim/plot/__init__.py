@@ -53,12 +53,12 @@ from .style import (
            style_context,
            use_style,
 )
-from .table import auto_window, draw_table, scene_of, table_shapes, view_window
+from .table import auto_window, check_window, draw_table, scene_of, table_shapes, view_window
 
 __all__ = ["LAW_COLORS", "STYLE", "auto_window", "draw_orbit", "draw_portrait", "draw_spin", "draw_stability_grid",
            "draw_table", "law_color", "mark_ends", "numbers_markdown", "orbit_nodes", "orbit_path",
            "portrait_points", "save_figure", "scene_of", "style_context", "table_shapes", "use_style", "view_window"]
-__all__ += ["collision_frames", "flight_states"]
+__all__ += ["check_window", "collision_frames", "flight_states"]
 __all__ += ["draw_angle", "draw_ray", "label_point", "sphere_path"]
 __all__ += ["draw_class_boundary", "draw_deviation", "draw_return_points", "draw_two_disk_setup", "return_points"]
 __all__ += ["draw_birkhoff", "draw_layered_portrait", "draw_reduced_portrait", "orbit_colors"]

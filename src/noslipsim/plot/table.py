@@ -66,7 +66,8 @@ def scene_of(source):
                      f"got {type(source).__name__}")
 
 
-def _window(window):
+def check_window(window):
+    """``window`` as finite floats ``(x0, x1, y0, y1)`` with ``x1 > x0`` and ``y1 > y0``, else ValueError."""
     try:
         x0, x1, y0, y1 = (float(v) for v in window)
     except (TypeError, ValueError):
@@ -286,7 +287,7 @@ def draw_table(ax, scene, window=None, *, wall_color=WALL_COLOR, scatterer_color
         window where one is needed.
     """
     scene = scene_of(scene)
-    box = auto_window(scene) if window is None else _window(window)
+    box = auto_window(scene) if window is None else check_window(window)
     x0, x1, y0, y1 = box
     discs, curves, walls, shades = [], [], [], []
     copies = _copies(scene, box)
@@ -351,7 +352,7 @@ def table_shapes(scene, window):
         ``(xs, ys)`` polygons, the part of the window behind each infinite line.
     """
     scene = scene_of(scene)
-    box = _window(window)
+    box = check_window(window)
     walls, discs, shades = [], [], []
     copies = _copies(scene, box)
     for shade, seg in _wall_chords(scene, box, copies):
