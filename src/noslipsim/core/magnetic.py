@@ -201,7 +201,8 @@ def line_exit(x, y, vx, vy, W, px, py, nx, ny, deflate):
 
     ``n`` is the outward unit normal; ``deflate``: the flight starts on the line (its ``t = 0`` root removed).
     """
-    return exit_time(*line_coefficients(x, y, vx, vy, W, px, py, nx, ny, deflate), W, deflate)
+    c0, c1, c2, m0, m1, m2 = line_coefficients(x, y, vx, vy, W, px, py, nx, ny, deflate)
+    return exit_time(c0, c1, c2, m0, m1, m2, W, deflate)
 
 
 @jit
@@ -221,7 +222,8 @@ def circle_exit(x, y, vx, vy, W, cx, cy, r, sigma, deflate):
 
     ``sigma = +1``: the table lies outside the circle (a scatterer), ``-1`` inside (a container).
     """
-    return exit_time(*circle_coefficients(x, y, vx, vy, W, cx, cy, r, sigma, deflate), W, deflate)
+    c0, c1, c2, m0, m1, m2 = circle_coefficients(x, y, vx, vy, W, cx, cy, r, sigma, deflate)
+    return exit_time(c0, c1, c2, m0, m1, m2, W, deflate)
 
 
 @jit
@@ -241,11 +243,13 @@ def arc_exit(x, y, vx, vy, W, cx, cy, r, sigma, theta0, span, tol, deflate):
 @jit
 def line_meets(x, y, vx, vy, W, px, py, nx, ny):
     """The cyclotron circle (``W = 0``: the flight's whole line) touches or crosses the line (certified as grazing)."""
-    return can_meet(*line_coefficients(x, y, vx, vy, W, px, py, nx, ny, False))
+    c0, c1, c2, m0, m1, m2 = line_coefficients(x, y, vx, vy, W, px, py, nx, ny, False)
+    return can_meet(c0, c1, c2, m0, m1, m2)
 
 
 @jit
 def circle_meets(x, y, vx, vy, W, cx, cy, r):
     """The cyclotron circle (``W = 0``: the flight's whole line) touches or crosses the circle."""
-    return can_meet(*circle_coefficients(x, y, vx, vy, W, cx, cy, r, 1.0, False))
+    c0, c1, c2, m0, m1, m2 = circle_coefficients(x, y, vx, vy, W, cx, cy, r, 1.0, False)
+    return can_meet(c0, c1, c2, m0, m1, m2)
 
