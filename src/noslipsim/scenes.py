@@ -197,6 +197,14 @@ def _check_magnitudes(scene):
                          f"is exact for ({_RANGE_DOC}); use 0 for no force")
 
 
+def _flown(kernel, arrays, *field):
+    """``(x, y, vx, vy)`` from ``kernel(x, y, vx, vy, *field, tau, out)`` over broadcast arrays of one shape."""
+    flat = [np.ascontiguousarray(a.ravel()) for a in arrays]
+    out = np.empty((flat[0].size, 4))
+    kernel(*flat[:4], *field, flat[4], out)
+    return tuple(out[:, k].reshape(arrays[0].shape) for k in range(4))
+
+
 @dataclass(frozen=True)
 class Scene:
     """A billiard table with its physics.
@@ -406,22 +414,24 @@ class Scene:
                       tau: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Position and velocity ``(x, y, vx, vy)`` after flights of duration ``tau >= 0`` (arrays, broadcast).
 
-        Free fall ``q + v tau + a tau^2/2`` (a straight line without force), or
+        Free fall ``q + v tau + a tau^2/2`` (a straight line without force),
         the closed-form path of the isokinetic thermostat
-        (:mod:`noslipsim.core.thermostat`).  For drawing and checking orbits;
-        the event loop evaluates the same forms.
+        (:mod:`noslipsim.core.thermostat`), or the cyclotron circle of a
+        magnetic field (:mod:`noslipsim.core.magnetic`).  For drawing and
+        checking orbits; the event loop evaluates the same forms.
         """
         x, y, vx, vy, tau = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (x, y, vx, vy, tau)))
+        if self.magnetic != 0.0:
+            from .core.magnetic import advance_many as magnetic_many
+
+            return _flown(magnetic_many, (x, y, vx, vy, tau), self.magnetic)
         ax, ay = self.force
         if self.thermostat is None or (ax, ay) == (0.0, 0.0):
             return (x + vx * tau + 0.5 * ax * tau ** 2, y + vy * tau + 0.5 * ay * tau ** 2,
                     vx + ax * tau, vy + ay * tau)
         from .core.thermostat import advance_many
 
-        flat = [np.ascontiguousarray(a.ravel()) for a in (x, y, vx, vy, tau)]
-        out = np.empty((flat[0].size, 4))
-        advance_many(*flat[:4], ax, ay, flat[4], out)
-        return tuple(out[:, k].reshape(x.shape) for k in range(4))
+        return _flown(advance_many, (x, y, vx, vy, tau), ax, ay)
 
     @property
     def noslip_coefficients(self) -> tuple[float, float]:
