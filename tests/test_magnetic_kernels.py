@@ -84,28 +84,36 @@ def test_weak_field_is_the_straight_flight(W):
 
 
 # ---------------------------------------------------------------------------- exit roots
-def test_line_exits_against_the_twin():
-    rng = np.random.default_rng(2)
+def agreeing_hits(pairs):
+    """Assert each ``(kernel, twin, meets)`` agrees (both inf, or equal roots; ``meets`` iff a root); the hits."""
     hits = 0
-    for _ in range(300):
-        x, y, vx, vy, W = random_flight(rng)
-        ang = rng.uniform(0, 2 * math.pi)
-        nx, ny = math.cos(ang), math.sin(ang)
-        px, py = x + nx * rng.uniform(0.01, 2), y + ny * rng.uniform(0.01, 2)  # the start on the table side
-        got = mg.line_exit(x, y, vx, vy, W, px, py, nx, ny, False)
-        want = ref_line_exit(x, y, vx, vy, W, px, py, nx, ny)
-        assert mg.line_meets(x, y, vx, vy, W, px, py, nx, ny) == (want < math.inf)
+    for got, want, meets in pairs:
+        assert meets == (want < math.inf)
         if want == math.inf:
             assert got == math.inf
             continue
         hits += 1
         assert got == pytest.approx(want, rel=1e-11, abs=1e-13)
-    assert hits > 100
+    return hits
+
+
+def test_line_exits_against_the_twin():
+    rng = np.random.default_rng(2)
+    pairs = []
+    for _ in range(300):
+        x, y, vx, vy, W = random_flight(rng)
+        ang = rng.uniform(0, 2 * math.pi)
+        nx, ny = math.cos(ang), math.sin(ang)
+        px, py = x + nx * rng.uniform(0.01, 2), y + ny * rng.uniform(0.01, 2)  # the start on the table side
+        pairs.append((mg.line_exit(x, y, vx, vy, W, px, py, nx, ny, False),
+                      ref_line_exit(x, y, vx, vy, W, px, py, nx, ny),
+                      mg.line_meets(x, y, vx, vy, W, px, py, nx, ny)))
+    assert agreeing_hits(pairs) > 100
 
 
 def test_circle_exits_against_the_twin():
     rng = np.random.default_rng(3)
-    hits = 0
+    pairs = []
     for _ in range(300):
         x, y, vx, vy, W = random_flight(rng)
         r = rng.uniform(0.05, 1.5)
@@ -115,14 +123,10 @@ def test_circle_exits_against_the_twin():
         else:  # a container around it
             sigma, dist = -1.0, r * rng.uniform(0.0, 0.95)
         cx, cy = x + dist * math.cos(ang), y + dist * math.sin(ang)
-        got = mg.circle_exit(x, y, vx, vy, W, cx, cy, r, sigma, False)
-        want = ref_circle_exit(x, y, vx, vy, W, cx, cy, r, sigma)
-        if want == math.inf:
-            assert got == math.inf
-            continue
-        hits += 1
-        assert got == pytest.approx(want, rel=1e-11, abs=1e-13)
-    assert hits > 100
+        pairs.append((mg.circle_exit(x, y, vx, vy, W, cx, cy, r, sigma, False),
+                      ref_circle_exit(x, y, vx, vy, W, cx, cy, r, sigma),
+                      mg.circle_meets(x, y, vx, vy, W, cx, cy, r)))
+    assert agreeing_hits(pairs) > 100
 
 
 def test_deflated_roots_against_the_twin():
