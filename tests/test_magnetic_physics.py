@@ -286,3 +286,23 @@ def test_lattice_walk_finds_the_first_disk_of_the_whole_circle():
             assert orbit.attrs["stop_reason"] == "max_collisions"
             assert float(orbit.t[0]) == pytest.approx(best, rel=1e-10)
     assert 0 < pinned < 30
+
+
+def test_level_and_time_limit_on_a_cyclotron_circle():
+    """The circle about (10, 9) of radius 1 from its top, (-1, 0) at W = 1: y = 9 + cos t."""
+    scene = tables.rectangle(20.0, 20.0).replace(magnetic=1.0)
+    orbit = simulate_reference(scene, (10.0, 10.0), (-1.0, 0.0), stop_below=8.5, dps=DPS, as_mpf=True)
+    assert orbit.stop_reason == "stop_below" and float(orbit.final["y"]) == 8.5
+    assert float(orbit.final["t"]) == pytest.approx(2 * math.pi / 3, rel=1e-15)
+    assert float(orbit.final["x"]) == pytest.approx(10.0 - math.sin(2 * math.pi / 3), rel=1e-15)
+    assert simulate_reference(scene, (10.0, 10.0), (-1.0, 0.0), stop_below=7.9, dps=DPS).attrs["stop_reason"] \
+        == "pinned"
+    orbit = simulate_reference(scene, (10.0, 10.0), (-1.0, 0.0), max_time=1.0, dps=DPS, as_mpf=True)
+    assert orbit.stop_reason == "pinned"  # like an escape: the orbit's fate is known, whatever the limit
+    # from (10, 1.5) the circle about (10, 0.5) meets the floor at t = 2 pi / 3: the limit t = 1 comes first
+    orbit = simulate_reference(scene, (10.0, 1.5), (-1.0, 0.0), max_time=1.0, dps=DPS, as_mpf=True)
+    assert orbit.stop_reason == "max_time"
+    assert [float(orbit.final[k]) for k in ("x", "y")] == pytest.approx([10.0 - math.sin(1.0), 0.5 + math.cos(1.0)],
+                                                                       rel=1e-15)
+    orbit = simulate_reference(scene, (10.0, 1.5), (-1.0, 0.0), max_collisions=1, dps=DPS, as_mpf=True)
+    assert float(orbit.records["t"][0]) == pytest.approx(2 * math.pi / 3, rel=1e-15)
