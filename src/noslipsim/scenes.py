@@ -6,6 +6,7 @@ A scene is the public way to define a billiard (docs/scenes.md)::
     gamma: 0.7071067811865476
     force: [0.0, -1.0]
     thermostat: isokinetic   # optional: fly the force with the Gaussian isokinetic thermostat
+    magnetic: 0.5            # optional: cyclotron angular frequency W of a field normal to the table
     elements: [...]          # see noslipsim.elements; each may set its own law
     lattice: {a1: [1, 0], a2: [0, 1]}   # optional: periodic repetition
     top: 0.8660254037844386  # optional, with a lattice of circles: no copies above this height
@@ -35,7 +36,7 @@ from .core.laws import noslip_coefficients
 from .elements import Arc, Circle, Line, Segment, element_from_dict, law_name
 
 LAWS = {"no-slip": layout.NOSLIP, "noslip": layout.NOSLIP, "specular": layout.SPECULAR}
-_SCENE_KEYS = {"law", "gamma", "force", "thermostat", "elements", "lattice", "top"}
+_SCENE_KEYS = {"law", "gamma", "force", "thermostat", "magnetic", "elements", "lattice", "top"}
 #: Thermostats a scene may fly its force with (``None``: none, free fall).
 THERMOSTATS = ("isokinetic",)
 
@@ -51,6 +52,29 @@ def _thermostat_name(thermostat):
     if isinstance(thermostat, str) and thermostat in THERMOSTATS:
         return thermostat
     raise ValueError(f"thermostat: unknown thermostat {thermostat!r}; expected 'isokinetic' or none")
+
+
+def _magnetic_value(magnetic):
+    """``magnetic`` as a finite float (bools and non-numbers refused by name)."""
+    if isinstance(magnetic, bool) or not isinstance(magnetic, (int, float, np.floating, np.integer)):
+        raise TypeError(f"magnetic: expected a number (the cyclotron angular frequency), "
+                        f"got {type(magnetic).__name__}")
+    value = float(magnetic)
+    if not math.isfinite(value):
+        raise ValueError(f"magnetic: must be finite, got {value} (0 for no field)")
+    return value
+
+
+def _check_magnetic(scene):
+    """Refuse a magnetic field together with what its flight does not combine with yet, by name."""
+    if scene.magnetic == 0.0:
+        return
+    if scene.force != (0.0, 0.0):
+        raise ValueError(f"magnetic: a field (magnetic = {scene.magnetic}) together with a force "
+                         f"{list(scene.force)} is not supported; use one or the other")
+    if scene.thermostat is not None:
+        raise ValueError(f"magnetic: a field (magnetic = {scene.magnetic}) is not supported with thermostat "
+                         f"{scene.thermostat!r}")
 
 
 #: Most element copies a periodic scene may need around one cell (counted from the
@@ -173,6 +197,14 @@ def _check_magnitudes(scene):
                          f"is exact for ({_RANGE_DOC}); use 0 for no force")
 
 
+def _flown(kernel, arrays, *field):
+    """``(x, y, vx, vy)`` from ``kernel(x, y, vx, vy, *field, tau, out)`` over broadcast arrays of one shape."""
+    flat = [np.ascontiguousarray(a.ravel()) for a in arrays]
+    out = np.empty((flat[0].size, 4))
+    kernel(*flat[:4], *field, flat[4], out)
+    return tuple(out[:, k].reshape(arrays[0].shape) for k in range(4))
+
+
 @dataclass(frozen=True)
 class Scene:
     """A billiard table with its physics.
@@ -199,6 +231,14 @@ class Scene:
         (the driven, thermostatted Lorentz gas; docs/scenes.md).
     lattice : dict or None
         ``{'a1': [..], 'a2': [..]}`` to repeat the elements periodically.
+    magnetic : float
+        ``W``, the cyclotron angular frequency of a magnetic field normal to
+        the table (inverse time; 0: no field).  Between collisions
+        ``dv/dt = W J v``: the velocity turns counter-clockwise at the rate
+        ``W`` (clockwise for ``W < 0``) on a circle of radius ``|v|/|W|``, and
+        the spin is untouched.  Not with a force or the thermostat.  Today
+        only :mod:`noslipsim.reference` flies it; the compiled entry points
+        refuse a scene with ``magnetic != 0`` (docs/scenes.md).
     top : float or None
         A bounded lattice: no element copy whose centre lies above the height
         ``top`` (a Galton board's top row with nothing above it; a particle
@@ -215,10 +255,12 @@ class Scene:
     lattice: dict | None = field(default=None)
     thermostat: str | None = None
     top: float | None = None
+    magnetic: float = 0.0
 
     def __post_init__(self):
         object.__setattr__(self, "law", _law_name(self.law))
         object.__setattr__(self, "thermostat", _thermostat_name(self.thermostat))
+        object.__setattr__(self, "magnetic", _magnetic_value(self.magnetic))
         object.__setattr__(self, "gamma", nonnegative(self.gamma, "gamma"))
         object.__setattr__(self, "force", tuple(float(f) for f in finite_vector(self.force, "force")))
         object.__setattr__(self, "elements", _element_tuple(self.elements))
@@ -244,6 +286,7 @@ class Scene:
         if self.top is not None:
             self._check_top()
         _check_magnitudes(self)
+        _check_magnetic(self)
 
     def _check_top(self):
         """Validate ``top`` (a bounded lattice) and store it as a float; errors name the problem."""
@@ -281,6 +324,7 @@ class Scene:
             lattice=d.get("lattice"),
             thermostat=d.get("thermostat"),
             top=d.get("top"),
+            magnetic=d.get("magnetic", 0.0),
         )
 
     @classmethod
@@ -314,6 +358,8 @@ class Scene:
         d = {"law": self.law, "gamma": self.gamma, "force": list(self.force)}
         if self.thermostat is not None:
             d["thermostat"] = self.thermostat
+        if self.magnetic != 0.0:  # absent when 0, so the JSON of field-free scenes is as before
+            d["magnetic"] = self.magnetic
         d["elements"] = [e.to_dict() for e in self.elements]
         if self.lattice is not None:
             d["lattice"] = self.lattice
@@ -334,9 +380,9 @@ class Scene:
         return json.dumps(self.to_dict(), sort_keys=True)
 
     def replace(self, **changes: Any) -> Scene:
-        """A copy with some of ``elements, law, gamma, force, lattice, thermostat, top`` changed."""
+        """A copy with some of ``elements, law, gamma, force, lattice, thermostat, top, magnetic`` changed."""
         d = dict(elements=self.elements, law=self.law, gamma=self.gamma, force=self.force,
-                 lattice=self.lattice, thermostat=self.thermostat, top=self.top)
+                 lattice=self.lattice, thermostat=self.thermostat, top=self.top, magnetic=self.magnetic)
         d.update(changes)
         return Scene(**d)
 
@@ -368,22 +414,24 @@ class Scene:
                       tau: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Position and velocity ``(x, y, vx, vy)`` after flights of duration ``tau >= 0`` (arrays, broadcast).
 
-        Free fall ``q + v tau + a tau^2/2`` (a straight line without force), or
+        Free fall ``q + v tau + a tau^2/2`` (a straight line without force),
         the closed-form path of the isokinetic thermostat
-        (:mod:`noslipsim.core.thermostat`).  For drawing and checking orbits;
-        the event loop evaluates the same forms.
+        (:mod:`noslipsim.core.thermostat`), or the cyclotron circle of a
+        magnetic field (:mod:`noslipsim.core.magnetic`).  For drawing and
+        checking orbits; the event loop evaluates the same forms.
         """
         x, y, vx, vy, tau = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (x, y, vx, vy, tau)))
+        if self.magnetic != 0.0:
+            from .core.magnetic import advance_many as magnetic_many
+
+            return _flown(magnetic_many, (x, y, vx, vy, tau), self.magnetic)
         ax, ay = self.force
         if self.thermostat is None or (ax, ay) == (0.0, 0.0):
             return (x + vx * tau + 0.5 * ax * tau ** 2, y + vy * tau + 0.5 * ay * tau ** 2,
                     vx + ax * tau, vy + ay * tau)
         from .core.thermostat import advance_many
 
-        flat = [np.ascontiguousarray(a.ravel()) for a in (x, y, vx, vy, tau)]
-        out = np.empty((flat[0].size, 4))
-        advance_many(*flat[:4], ax, ay, flat[4], out)
-        return tuple(out[:, k].reshape(x.shape) for k in range(4))
+        return _flown(advance_many, (x, y, vx, vy, tau), ax, ay)
 
     @property
     def noslip_coefficients(self) -> tuple[float, float]:
@@ -406,7 +454,8 @@ class Scene:
         relative to the cell), so it is not measured against the range of validity again."""
         out = object.__new__(Scene)
         for name, value in dict(elements=tuple(elems), law=self.law, gamma=self.gamma, force=self.force,
-                                lattice=None, thermostat=self.thermostat, top=None).items():
+                                lattice=None, thermostat=self.thermostat, top=None,
+                                magnetic=self.magnetic).items():
             object.__setattr__(out, name, value)
         return out
 

@@ -20,6 +20,20 @@ from .junctions import end_factors, junction_arrays
 from .lattice import disks_apart, lattice_matrix, reaching_copies
 from .memo import per_scene
 
+#: Why a compiled entry point refuses a scene with a magnetic field (``Scene.magnetic != 0``).
+MAGNETIC_REFUSAL = "magnetic scenes run in noslipsim.reference only until the compiled magnetic flight lands"
+
+
+def require_compiled_flight(scene):
+    """Refuse a scene whose flight the compiled event loop does not fly (a magnetic field), by name.
+
+    Every compiled entry point packs its scene here (:func:`kernel_table`), so
+    none of them can fly a magnetic scene as a straight line by mistake.
+    """
+    if scene.magnetic != 0.0:
+        raise ValueError(f"scene: magnetic = {scene.magnetic}: {MAGNETIC_REFUSAL}")
+
+
 #: Disks of a lattice run the lean loop (:attr:`KernelTable.disk_lattice`) when no two come within
 #: this gap, relative to the cell's size: far outside the corner rule's contact band
 #: (``CONTACT_TOL``), so the general loop could never treat two of them as touching.
@@ -138,7 +152,14 @@ def placed_copies(scene):
 
 @per_scene
 def kernel_table(scene) -> KernelTable:
-    """The kernel table of ``scene`` as it is written (built on first use, kept while the scene lives)."""
+    """The kernel table of ``scene`` as it is written (built on first use, kept while the scene lives).
+
+    Raises
+    ------
+    ValueError
+        The scene has a magnetic field (:func:`require_compiled_flight`).
+    """
+    require_compiled_flight(scene)
     elements = scene.elements
     scale = scene.scale
     copies = scene_copies(scene)

@@ -36,15 +36,18 @@ from ..simulate import check_limits, check_start, run_one, start_cell
 
 
 def require_free_fall(scene: Scene, what):
-    """Refuse a thermostatted scene by name: ``what`` assumes parabolic flights and the energy ``|v|^2/2 - a . q``.
+    """Refuse a thermostatted or magnetic scene by name: ``what`` assumes parabolic flights (energy ``|v|^2/2 - a.q``).
 
-    The isokinetic thermostat (``Scene.thermostat``) bends flights along
-    another path and keeps the kinetic energy instead; the tangent maps and
+    The isokinetic thermostat (``Scene.thermostat``) and a magnetic field
+    (``Scene.magnetic``) bend flights along other paths; the tangent maps and
     the energy-surface coordinates here are derived for free fall only.
     """
     if scene.thermostat is not None and scene.force != (0.0, 0.0):
         raise ValueError(f"scene: {what} is derived for free fall under the force; it does not support "
                          f"thermostat {scene.thermostat!r}")
+    if scene.magnetic != 0.0:
+        raise ValueError(f"scene: {what} is derived for free fall under the force; it does not support "
+                         f"a magnetic field (magnetic = {scene.magnetic})")
 
 
 def boundary_frames(scene: Scene, element, s):

@@ -107,6 +107,16 @@ limit counts as reached first when the engine's walk would reach it within
 ``MAX_CELLS_PER_FLIGHT`` cells (counted from the face crossings up to the limit).
 The copy hit is reported by its element index, with ``s`` measured on that copy.
 
+Magnetic flights
+----------------
+A scene with ``magnetic = W != 0`` flies cyclotron arcs (:mod:`.magnetic`):
+every crossing function is ``g0 + a sin(W t)/W + b (1 - cos(W t))/W``, whose
+roots solve ``A cos + B sin = C`` in closed form; the element just hit has its
+root ``t = 0`` removed analytically.  The path is closed, so the search covers
+one period (on a lattice: the cells of one turn, walked face by face); an
+orbit whose circle meets no element stops with ``pinned``.  The corner and
+grazing rules read the local expansion ``a = W J v``.
+
 Inputs are taken at the exact values of their Python floats (``mpf(float)``
 is exact).  Element geometry is read from the element objects: segments from
 their end points ``p0, p1`` (so adjacent polygon edges share their vertex

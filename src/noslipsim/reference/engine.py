@@ -16,6 +16,7 @@ from .._validate import finite_float, finite_vector
 from ..core.tolerances import MAX_CORNER_BOUNCES
 from ..scenes import Scene
 from ..simulate import check_limits, check_start
+from . import magnetic
 from .elements import _StraightMp
 from .orbit import ReferenceOrbit
 from .roots import _exit_roots, _flight
@@ -208,6 +209,9 @@ class _EventLoop:
         self.ax, self.ay = f(scene.force[0]), f(scene.force[1])
         # the Gaussian isokinetic thermostat: the force steers, the speed stays (module thermostat)
         self.thermo = scene.thermostat is not None and scene.force != (0.0, 0.0)
+        # a magnetic field turns the velocity at the rate W (module magnetic); never with a force
+        self.W = f(scene.magnetic)
+        self.magnetic = scene.magnetic != 0.0
         self.noslip = [law == "no-slip" for law in scene.element_laws]  # each element's own law
         g = f(scene.gamma)
         self.c_law, self.s_law = (1 - g * g) / (1 + g * g), 2 * g / (1 + g * g)
@@ -330,7 +334,7 @@ class _EventLoop:
             self.t += t_level
             return "stop_below"
         if best is None and gave_up:  # nothing ahead: the orbit leaves for good from its last collision
-            return "escape"
+            return magnetic.PINNED if self.magnetic else "escape"  # a closed cyclotron path circles for ever
         if best is None or best_t > remaining:
             self.advance(remaining)
             self.t = self.t_max
@@ -346,6 +350,8 @@ class _EventLoop:
         if self.thermo:
             return line_first_exit(self.ctx, self.path(), self.ctx.zero, self.ctx.one, self.y - self.level,
                                    self.ctx.zero)
+        if self.magnetic:
+            return magnetic.level_exit(self.ctx, self.path(), self.level, self.slope_floor)
         roots = _exit_roots(self.ctx, [self.y - self.level, self.vy, self.ay / 2], False, self.slope_floor)
         return roots[0] if roots else None
 
@@ -355,18 +361,22 @@ class _EventLoop:
         Plain scenes: every element, over all times (``gave_up``: nothing ahead).
         Lattices: the cell walk (:func:`~noslipsim.reference.walk._walk_cells`),
         which may stop at ``t_limit`` with no hit found (or one beyond the limit).
+        A magnetic flight looks one period ahead (``gave_up``: pinned).
         """
         tol = self.tol()
         earliest = _Earliest(lambda c: self.first_hit(c, tol), self.rel_tol)
         if not self.table.periodic:
             earliest.offer(self.table.copies_at(0, 0))
             return earliest.t, earliest.copy, earliest.copy is None
-        return _walk_cells(self.table, self.flight(), earliest, t_limit, tol, self.path() if self.thermo else None)
+        path = self.path() if (self.thermo or self.magnetic) else None
+        return _walk_cells(self.table, self.flight(), earliest, t_limit, tol, path, self.slope_floor)
 
     def first_hit(self, copy, tol):
         """Steps 1-3 for one copy: the first exit root of the whole flight within its extent, or None."""
         if self.thermo:
             return self.thermo_first_hit(copy, tol)
+        if self.magnetic:
+            return magnetic.first_hit(self.ctx, self.path(), copy, self.deflated(copy, tol), tol, self.slope_floor)
         x, y, vx, vy, ax, ay = self.flight()
         coeffs = copy.crossing(x, y, vx, vy, ax, ay)
         deflate = self.deflated(copy, tol)
@@ -430,7 +440,7 @@ class _EventLoop:
 
     def relocate(self, copy, dt):
         """Step 5 (relocate): fly for ``dt`` and place the particle on ``copy``; the incoming velocity."""
-        if self.thermo:
+        if self.thermo or self.magnetic:
             path = self.path()
             hx, hy = path.position(dt)
             vx_in, vy_in = path.velocity(dt)
@@ -466,7 +476,7 @@ class _EventLoop:
 
     def advance(self, dt):
         """Stop rules: the free flight for ``dt`` with no collision (to the level or the time limit)."""
-        if self.thermo:
+        if self.thermo or self.magnetic:
             path = self.path()
             self.x, self.y = path.position(dt)
             self.vx, self.vy = path.velocity(dt)
@@ -478,15 +488,20 @@ class _EventLoop:
     def flight(self):
         """``(x, y, vx, vy, ax, ay)``: the flight from the current state.
 
-        Thermostatted: the acceleration now, ``F - alpha v`` (the local
-        expansion the corner and grazing rules read; the path is :meth:`path`).
+        Thermostatted: the acceleration now, ``F - alpha v``; magnetic:
+        ``W J v`` (the local expansion the corner and grazing rules read; the
+        path is :meth:`path`).
         """
         if self.thermo:
             return (self.x, self.y, self.vx, self.vy, *accel(self.ax, self.ay, self.vx, self.vy))
+        if self.magnetic:
+            return self.path().local()
         return self.x, self.y, self.vx, self.vy, self.ax, self.ay
 
     def path(self):
-        """The thermostatted path from the current state."""
+        """The thermostatted or magnetic path from the current state."""
+        if self.magnetic:
+            return magnetic.MagneticPath(self.ctx, self.x, self.y, self.vx, self.vy, self.W)
         return ThermoPath(self.ctx, self.x, self.y, self.vx, self.vy, self.ax, self.ay)
 
     def tol(self):

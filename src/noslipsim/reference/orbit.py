@@ -36,7 +36,8 @@ class ReferenceOrbit:
     final_cell : (int, int)
         Periodic scenes: the cell holding the final position.
     stop_reason : str
-        One of :data:`noslipsim.core.layout.STOP_REASONS`.
+        One of :data:`noslipsim.core.layout.STOP_REASONS`, or ``'pinned'`` (a magnetic
+        orbit whose cyclotron circle meets no element: :data:`noslipsim.reference.magnetic.PINNED`).
     n_corner : int
         Number of corner collisions.
     dps : int

@@ -19,6 +19,7 @@ from fractions import Fraction
 from .._engine.lattice import reaching_copies
 from ..core.tolerances import MAX_CELLS_PER_FLIGHT
 from .elements import _Copy, _mp_elements
+from .magnetic import MagneticPath, face_exit
 from .roots import _flight
 from .thermostat import line_first_exit
 
@@ -287,17 +288,62 @@ class _ThermoStrip(_Strip):
             self.exit, self.step = self._exit(t_out)
 
 
-def _strips(table, flight, path=None):
-    """The flight's lattice coordinates ``alpha(t), beta(t)``, each in the strip of the start's cell."""
+class _MagneticStrip:
+    """A lattice coordinate along a cyclotron path: ``alpha0 + grad . (x(t) - x_0)``, in the strip ``d``.
+
+    Its exits are the closed-form face crossings of :mod:`.magnetic` within
+    the first period (``inf`` beyond it): a path is closed, so a walk that has
+    not met an element by then never will, and the cells it can reach are
+    those of one turn.
+    """
+
+    __slots__ = ("alpha0", "ctx", "d", "exit", "floor", "grad", "path", "step")
+
+    def __init__(self, ctx, alpha0, d, path, grad, floor):
+        self.ctx, self.alpha0, self.d, self.path, self.grad, self.floor = ctx, alpha0, d, path, grad, floor
+        self.exit, self.step = self._exit(ctx.zero)
+
+    def _exit(self, t_in):
+        ctx, (gx, gy) = self.ctx, self.grad
+        half = ctx.mpf(0.5)
+        t_up = face_exit(ctx, self.path, self.d + half - self.alpha0, -gx, -gy, t_in, self.floor)
+        t_dn = face_exit(ctx, self.path, self.alpha0 - (self.d - half), gx, gy, t_in, self.floor)
+        if t_up <= t_dn and t_up < ctx.inf:
+            return t_up, 1
+        if t_dn < ctx.inf:
+            return t_dn, -1
+        return ctx.inf, 0
+
+    def cross(self, t_out):
+        """Step into the next strip if the coordinate leaves its strip at ``t_out``, the current cell's exit."""
+        if self.exit == t_out:
+            self.d += self.step
+            self.exit, self.step = self._exit(t_out)
+
+
+def _gradients(table):
+    """The gradients of the lattice coordinates ``alpha`` and ``beta`` (rows of the inverse lattice matrix)."""
+    a1x, a1y, a2x, a2y = table.a
+    return (a2y / table.det, -a2x / table.det), (-a1y / table.det, a1x / table.det)
+
+
+def _strips(table, flight, path=None, floor=None):
+    """The flight's lattice coordinates ``alpha(t), beta(t)``, each in the strip of the start's cell.
+
+    ``path``: a thermostatted or magnetic path (``floor``: the magnetic exits' slope floor).
+    """
     x, y, vx, vy, ax, ay = flight
     (p0, r0), (p1, r1), (p2, r2) = (table.coordinates(x, y), table.coordinates(vx, vy),
                                     table.coordinates(ax, ay))
     alpha, beta = [p0, p1, p2 / 2], [r0, r1, r2 / 2]
     d1, d2 = table.cell(x, y)
+    if isinstance(path, MagneticPath):
+        ga, gb = _gradients(table)
+        return (_MagneticStrip(table.ctx, p0, d1, path, ga, floor),
+                _MagneticStrip(table.ctx, r0, d2, path, gb, floor))
     if path is not None:
-        a1x, a1y, a2x, a2y = table.a
-        return (_ThermoStrip(table.ctx, alpha, d1, path, (a2y / table.det, -a2x / table.det)),
-                _ThermoStrip(table.ctx, beta, d2, path, (-a1y / table.det, a1x / table.det)))
+        ga, gb = _gradients(table)
+        return _ThermoStrip(table.ctx, alpha, d1, path, ga), _ThermoStrip(table.ctx, beta, d2, path, gb)
     return _Strip(table.ctx, alpha, d1), _Strip(table.ctx, beta, d2)
 
 
@@ -309,7 +355,7 @@ def _endless_gives_up(ctx, alpha, beta, t_limit, max_cells):
     return cells > max_cells
 
 
-def _walk_cells(table, flight, earliest, t_limit, tol, path=None):
+def _walk_cells(table, flight, earliest, t_limit, tol, path=None, floor=None):
     """Step 4 on a lattice: walk the cells a flight crosses until its earliest hit is known.
 
     Parameters
@@ -326,8 +372,11 @@ def _walk_cells(table, flight, earliest, t_limit, tol, path=None):
         The walk may stop once the current cell's exit comes at or after it.
     tol : mpf
         The length tolerance at the start of the flight.
-    path : ThermoPath, optional
-        A thermostatted flight's path (``flight`` then carries its acceleration at the start).
+    path : ThermoPath or MagneticPath, optional
+        A thermostatted or magnetic flight's path (``flight`` then carries its acceleration at the start).
+        A magnetic walk follows one period: a closed path meets nothing later that it did not meet then.
+    floor : mpf, optional
+        The slope floor of the magnetic face exits.
 
     Returns
     -------
@@ -339,7 +388,7 @@ def _walk_cells(table, flight, earliest, t_limit, tol, path=None):
     """
     ctx = table.ctx
     max_cells = MAX_CELLS_PER_FLIGHT  # read at each call, so a test may lower it
-    alpha, beta = _strips(table, flight, path)
+    alpha, beta = _strips(table, flight, path, floor)
     period = table.period(*flight[2:])
     endless = None if period is None else _Period(ctx, flight, period)
     for _ in range(max_cells):

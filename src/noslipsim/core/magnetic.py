@@ -1,0 +1,255 @@
+r"""Magnetic flights: the closed-form cyclotron path and its exits through lines and circles.
+
+A constant field normal to the table turns the velocity at the cyclotron
+angular frequency ``W`` (``Scene.magnetic``; not the spin ``w``):
+``dv/dt = W J v`` with ``J (a, b) = (-b, a)``.  The speed ``c = |v|`` and the
+spin are constant in flight; with ``theta = W t``
+
+.. math::
+
+    v(t) = \cos\theta\, v_0 + \sin\theta\, J v_0, \qquad
+    x(t) = x_0 + \frac{\sin\theta}{W} v_0 + \frac{2 \sin^2(\theta/2)}{W} J v_0,
+
+a circle of radius ``c/|W|`` about ``x_0 + J v_0 / W``, run counter-clockwise
+for ``W > 0``.  The half-angle form of ``(1 - cos theta)/W`` keeps ``W -> 0``
+(the straight flight) free of cancellation, and below ``|theta| = 1e-8`` the
+series is used, so a tiny ``W`` never divides.
+
+Crossings (docs/algorithm.md, "Magnetic flights").  Along the flight a line's
+signed distance and a circle's ``sigma (|x - p|^2 - r^2)`` (each positive on
+the table side) are ``g(t) = g_0 + a \sin\theta / W + b (1 - \cos\theta) / W``,
+so a crossing solves ``A cos(theta) + B sin(theta) = C``.  The tangent
+half-angle ``zeta = 2 tan(theta/2) / W`` (``-> t`` as ``W -> 0``) maps one
+period ``[0, 2 pi/|W|)`` onto the real line and turns it into the quadratic
+
+.. math::
+
+    (1 + \tan^2(\theta/2))\, g = c_0 + c_1 \zeta + c_2 \zeta^2, \qquad
+    c_0 = g_0, \; c_1 = a, \; c_2 = W b / 2 + W^2 g_0 / 4
+
+(for a circle ``c_2 = sigma (c^2 + W d . J v_0 + W^2 f_0 / 4)``), whose
+discriminant is ``hypot(A, B)^2 - C^2`` up to a positive factor.  On a closed
+orbit the roots come in pairs: once per period the orbit enters the table side
+and once it leaves it.  The exit is the root where the quadratic falls,
+``zeta = (-c_1 - sqrt(D)) / (2 c_2)``, formed without cancellation as
+``num / den`` (``den = 0``: the root at ``zeta = inf``, half a period), and its
+time is ``t = (2/|W|) atan2(|W| num, 2 den)`` taken into ``(0, 2 pi/|W|)``.
+So an element is met at most once per period, at its exit root, or never:
+an exit outside a segment's or arc's extent is missed on every turn.
+
+* *Deflation*: on the element just hit ``c_0 = 0`` exactly and the other
+  root is ``zeta = -c_1 / c_2`` (no square root; ``t = 0`` and ``t = 2 pi/|W|``
+  are the collision itself, never a hit).
+* *Certified grazing*: ``D`` is formed with one rounding (``fma``) and
+  compared with a first-order bound on its error from the rounding of the
+  coefficients (:data:`GRAZE_ULPS`); within it the orbit touches the element
+  to rounding (``|C| = hypot(A, B)``), which is no crossing.  A larger ``D``
+  certainly has the sign it shows.
+
+``W = 0`` is the straight flight (``zeta = t``, no root at infinity).
+Kernels take raw floats (normals outward, out of the table, as the collision
+frame's ``n``); the slow twin is :mod:`noslipsim.reference.magnetic`.
+"""
+import math
+
+from .exact import fma
+from .jit import jit
+
+INF = math.inf
+EPS = 2.220446049250313e-16
+#: Below this ``|W t|`` the path uses its series (``sin(theta)/W = t (1 - theta^2/6)``): exact to
+#: the last bit there, and no division by a ``W`` that may be subnormal.
+SERIES_ANGLE = 1e-8
+#: A discriminant within ``GRAZE_ULPS`` roundings of its coefficients (first-order error bound)
+#: is a tangency: the orbit touches the element's line or circle to rounding and does not cross it.
+GRAZE_ULPS = 16.0
+
+
+# ---------------------------------------------------------------------------- the path
+@jit(inline="always")
+def turn(W, t):
+    """``(S, Q, cos(W t), sin(W t))`` with ``S = sin(W t)/W`` and ``Q = (1 - cos(W t))/W`` (``W = 0``: ``t, 0``)."""
+    th = W * t
+    if abs(th) < SERIES_ANGLE:
+        return t * (1.0 - th * th / 6.0), 0.5 * t * th, 1.0 - 0.5 * th * th, th
+    h = math.sin(0.5 * th)
+    return math.sin(th) / W, 2.0 * h * h / W, math.cos(th), math.sin(th)
+
+
+@jit(inline="always")
+def advance(x, y, vx, vy, W, t):
+    """``(x, y, vx, vy)`` after a flight of duration ``t`` from ``(x, y)`` with velocity ``(vx, vy)``."""
+    S, Q, cs, sn = turn(W, t)
+    jx, jy = -vy, vx
+    return x + S * vx + Q * jx, y + S * vy + Q * jy, cs * vx + sn * jx, cs * vy + sn * jy
+
+
+@jit
+def advance_many(x, y, vx, vy, W, t, out):
+    """:func:`advance` over arrays (``out`` (N, 4): ``x, y, vx, vy``)."""
+    for i in range(x.size):
+        out[i, 0], out[i, 1], out[i, 2], out[i, 3] = advance(x[i], y[i], vx[i], vy[i], W, t[i])
+
+
+@jit(inline="always")
+def period(W):
+    """``2 pi / |W|``: the cyclotron period (``inf`` without a field)."""
+    if W == 0.0:
+        return INF
+    return 2.0 * math.pi / abs(W)
+
+
+@jit(inline="always")
+def centre(x, y, vx, vy, W):
+    """``(mx, my, rho)``: the cyclotron circle's centre ``x + J v / W`` and radius ``|v| / |W|`` (``W != 0``)."""
+    return x - vy / W, y + vx / W, math.hypot(vx, vy) / abs(W)
+
+
+# ---------------------------------------------------------------------------- the quadratic in zeta
+@jit(inline="always")
+def line_coefficients(x, y, vx, vy, W, px, py, nx, ny, deflate):
+    """``(c0, c1, c2, m0, m1, m2)``: the quadratic in ``zeta`` of the line through ``p`` (outward normal ``n``).
+
+    ``m0, m1, m2``: the size of the terms of each coefficient (its rounding is a few ``EPS m``).
+    """
+    c0 = 0.0 if deflate else -(nx * (x - px) + ny * (y - py))
+    a = -(nx * vx + ny * vy)
+    b = -(ny * vx - nx * vy)  # n_in . J v
+    m0 = abs(nx) * (abs(x) + abs(px)) + abs(ny) * (abs(y) + abs(py))
+    m1 = abs(nx * vx) + abs(ny * vy)
+    c2 = W * (0.5 * b + 0.25 * W * c0)
+    m2 = abs(W) * (0.5 * (abs(ny * vx) + abs(nx * vy)) + 0.25 * abs(W) * m0)
+    return c0, a, c2, m0, m1, m2
+
+
+@jit(inline="always")
+def circle_coefficients(x, y, vx, vy, W, cx, cy, r, sigma, deflate):
+    """``(c0, c1, c2, m0, m1, m2)``: the quadratic in ``zeta`` of the circle (table outside it for ``sigma = +1``)."""
+    dx, dy = x - cx, y - cy
+    rho = math.hypot(dx, dy)
+    f0 = 0.0 if deflate else (rho - r) * (rho + r)
+    m0 = (rho + r) * (abs(x) + abs(cx) + abs(y) + abs(cy))
+    c1 = 2.0 * (dx * vx + dy * vy)
+    c = math.hypot(vx, vy)
+    m1 = 2.0 * c * (abs(x) + abs(cx) + abs(y) + abs(cy))
+    cross = dy * vx - dx * vy  # d . J v
+    c2 = c * c + W * cross + 0.25 * W * W * f0
+    m2 = c * c + abs(W) * (rho * c + 0.25 * abs(W) * m0)
+    return sigma * f0, sigma * c1, sigma * c2, m0, m1, m2
+
+
+@jit(inline="always")
+def discriminant(c0, c1, c2, m0, m1, m2):
+    """``(D, bound)``: ``c1^2 - 4 c0 c2`` (one rounding) and the bound on its error from the coefficients'."""
+    D = fma(c1, c1, -4.0 * c0 * c2)
+    bound = GRAZE_ULPS * EPS * (2.0 * abs(c1) * m1 + 4.0 * (abs(c2) * m0 + abs(c0) * m2) + c1 * c1
+                                + 4.0 * abs(c0 * c2))
+    return D, bound
+
+
+@jit(inline="always")
+def zeta_time(num, den, W):
+    """The time in ``(0, 2 pi/|W|)`` of ``zeta = num / den`` (``den >= 0``; ``inf`` for ``t = 0`` or none)."""
+    if W == 0.0:
+        if den == 0.0:
+            return INF
+        t = num / den
+        return t if t > 0.0 else INF
+    aw = abs(W)
+    z = aw * num
+    if abs(z) <= SERIES_ANGLE * 2.0 * den:  # atan(z) = z to the last bit: no loss for a tiny W
+        t = num / den
+    else:
+        t = 2.0 * math.atan2(z, 2.0 * den) / aw
+    if t < 0.0:
+        t += 2.0 * math.pi / aw
+    return t if t > 0.0 else INF
+
+
+@jit(inline="always")
+def exit_time(c0, c1, c2, m0, m1, m2, W, deflate):
+    """The exit root's time in ``(0, 2 pi/|W|)`` of the quadratic in ``zeta`` (``inf``: none, or a certified graze)."""
+    if deflate:
+        if not c1 > 0.0:  # on the element and not moving into the table: its exit is t = 0 itself
+            return INF
+        num, den = -c1, c2
+    else:
+        D, bound = discriminant(c0, c1, c2, m0, m1, m2)
+        if D <= bound:  # no crossing, or a tangency to rounding (certified grazing)
+            return INF
+        sq = math.sqrt(D)
+        if c1 >= 0.0:
+            num, den = -0.5 * (c1 + sq), c2
+        else:
+            num, den = c0, 0.5 * (sq - c1)
+    if den < 0.0:
+        num, den = -num, -den
+    return zeta_time(num, den, W)
+
+
+@jit(inline="always")
+def can_meet(c0, c1, c2, m0, m1, m2):
+    """The whole orbit (cyclotron circle; a straight flight's whole line) touches or crosses: ``D >= -bound``."""
+    D, bound = discriminant(c0, c1, c2, m0, m1, m2)
+    return D >= -bound
+
+
+# ---------------------------------------------------------------------------- exits through elements
+@jit
+def line_exit(x, y, vx, vy, W, px, py, nx, ny, deflate):
+    """Earliest time in ``(0, 2 pi/|W|)`` the flight leaves the table through the line ``n . (q - p) = 0``, or inf.
+
+    ``n`` is the outward unit normal; ``deflate``: the flight starts on the line (its ``t = 0`` root removed).
+    """
+    c0, c1, c2, m0, m1, m2 = line_coefficients(x, y, vx, vy, W, px, py, nx, ny, deflate)
+    return exit_time(c0, c1, c2, m0, m1, m2, W, deflate)
+
+
+@jit
+def segment_exit(x, y, vx, vy, W, px, py, nx, ny, ux, uy, length, tol, deflate):
+    """:func:`line_exit` within the segment from ``p`` along the unit ``u`` (``0 <= s <= length`` within ``tol``)."""
+    t = line_exit(x, y, vx, vy, W, px, py, nx, ny, deflate)
+    if t == INF:
+        return INF
+    hx, hy, _, _ = advance(x, y, vx, vy, W, t)
+    s = (hx - px) * ux + (hy - py) * uy
+    return t if -tol <= s <= length + tol else INF
+
+
+@jit
+def circle_exit(x, y, vx, vy, W, cx, cy, r, sigma, deflate):
+    """Earliest time in ``(0, 2 pi/|W|)`` the flight leaves the table through the circle, or inf.
+
+    ``sigma = +1``: the table lies outside the circle (a scatterer), ``-1`` inside (a container).
+    """
+    c0, c1, c2, m0, m1, m2 = circle_coefficients(x, y, vx, vy, W, cx, cy, r, sigma, deflate)
+    return exit_time(c0, c1, c2, m0, m1, m2, W, deflate)
+
+
+@jit
+def arc_exit(x, y, vx, vy, W, cx, cy, r, sigma, theta0, span, tol, deflate):
+    """:func:`circle_exit` within the arc counter-clockwise from ``theta0`` over ``span`` (ends within ``tol``)."""
+    t = circle_exit(x, y, vx, vy, W, cx, cy, r, sigma, deflate)
+    if t == INF:
+        return INF
+    hx, hy, _, _ = advance(x, y, vx, vy, W, t)
+    ang = (math.atan2(hy - cy, hx - cx) - theta0) % (2.0 * math.pi)
+    slack = tol / r
+    if ang <= span + slack or ang >= 2.0 * math.pi - slack:
+        return t
+    return INF
+
+
+@jit
+def line_meets(x, y, vx, vy, W, px, py, nx, ny):
+    """The cyclotron circle (``W = 0``: the flight's whole line) touches or crosses the line (certified as grazing)."""
+    c0, c1, c2, m0, m1, m2 = line_coefficients(x, y, vx, vy, W, px, py, nx, ny, False)
+    return can_meet(c0, c1, c2, m0, m1, m2)
+
+
+@jit
+def circle_meets(x, y, vx, vy, W, cx, cy, r):
+    """The cyclotron circle (``W = 0``: the flight's whole line) touches or crosses the circle."""
+    c0, c1, c2, m0, m1, m2 = circle_coefficients(x, y, vx, vy, W, cx, cy, r, 1.0, False)
+    return can_meet(c0, c1, c2, m0, m1, m2)
+

@@ -1,0 +1,132 @@
+"""The scene key ``magnetic`` (a field normal to the table): file format, validation, and the refusal of
+every compiled entry point until the compiled magnetic flight lands (docs/scenes.md, "Magnetic field")."""
+import json
+import math
+
+import numpy as np
+import pytest
+
+from noslipsim import Scene, simulate, simulate_many, tables
+from noslipsim._engine.table import MAGNETIC_REFUSAL
+from noslipsim.analysis import find_periodic_orbit, finite_time_lyapunov, lyapunov, monodromy
+from noslipsim.analysis.section import energy_at, interior_log
+from noslipsim.cli import main
+from noslipsim.experiments import phase_portrait
+from noslipsim.reference import simulate_reference
+
+LINE = {"type": "line", "point": [0, 0], "normal": [0, 1]}
+BOX = tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.2)])
+
+
+def test_default_is_no_field_and_absent_from_the_file():
+    assert BOX.magnetic == 0.0
+    assert "magnetic" not in BOX.to_dict()  # the JSON of field-free scenes (and their datasets) is as before
+    assert "magnetic" not in BOX.to_json()
+
+
+def test_round_trips_dict_yaml_json_and_replace(tmp_path):
+    scene = BOX.replace(magnetic=-2.5)
+    assert scene.magnetic == -2.5 and isinstance(scene.magnetic, float)
+    assert scene.to_dict()["magnetic"] == -2.5
+    assert Scene.from_dict(scene.to_dict()) == scene
+    path = tmp_path / "box.yaml"
+    scene.to_yaml(path)
+    assert "magnetic: -2.5" in path.read_text()
+    assert Scene.from_yaml(path) == scene
+    assert Scene.from_dict(json.loads(scene.to_json())) == scene
+    assert scene != BOX
+    assert scene.replace(magnetic=0).to_dict() == BOX.to_dict()
+    assert scene.replace(gamma=0.3).magnetic == -2.5  # replace keeps the field
+    assert Scene.from_dict({"elements": [LINE], "magnetic": 3}).magnetic == 3.0
+    assert tables.sinai_torus(0.3).replace(magnetic=1.0).cell_scene((2, -1)).magnetic == 1.0
+
+
+@pytest.mark.parametrize("value, kind, message", [
+    (math.inf, ValueError, r"^magnetic: must be finite, got inf"),
+    (math.nan, ValueError, r"^magnetic: must be finite, got nan"),
+    ("1.0", TypeError, r"^magnetic: expected a number .*got str"),
+    (True, TypeError, r"^magnetic: expected a number .*got bool"),
+    (None, TypeError, r"^magnetic: expected a number .*got NoneType"),
+])
+def test_bad_values_are_refused_by_name(value, kind, message):
+    with pytest.raises(kind, match=message):
+        Scene.from_dict({"elements": [LINE], "magnetic": value})
+
+
+def test_refused_with_a_force_or_the_thermostat():
+    with pytest.raises(ValueError, match=r"^magnetic: a field \(magnetic = 1.0\) together with a force"):
+        BOX.replace(magnetic=1.0, force=(0.0, -1.0))
+    with pytest.raises(ValueError, match=r"^magnetic: a field \(magnetic = 1.0\) is not supported with thermostat"):
+        BOX.replace(magnetic=1.0, thermostat="isokinetic")
+    # neither is refused without a field
+    assert BOX.replace(force=(0.0, -1.0), thermostat="isokinetic").magnetic == 0.0
+
+
+def test_a_bounded_lattice_takes_a_field():
+    """A Galton board's top row with a field above it is a well-posed magnetic billiard (skipping orbits)."""
+    board = tables.galton_board(top_row=0).replace(force=(0.0, 0.0), magnetic=2.0)
+    assert board.top is not None and board.magnetic == 2.0
+
+
+# ---------------------------------------------------------------------------- the compiled entry points
+MAGNETIC = BOX.replace(magnetic=1.5)
+REFUSED = "^scene: magnetic = 1.5: " + MAGNETIC_REFUSAL.replace(".", r"\.")
+START = ((0.4, 0.3), (0.7, 0.5))
+
+ENTRY_POINTS = {
+    "simulate": lambda s: simulate(s, *START, max_collisions=5),
+    "simulate_many": lambda s: simulate_many(s, [START[0]], [START[1]], max_collisions=5, scheduler="sync",
+                                             progress=False),
+    "interior_log": lambda s: interior_log(s, *START, 0.0, 5),
+    "monodromy": lambda s: monodromy(s, *START, period=2),
+    "find_periodic_orbit": lambda s: find_periodic_orbit(s, *START, period=2),
+    "phase_portrait": lambda s: phase_portrait(s, n_orbits=2, n_collisions=5, scheduler="sync", progress=False),
+}
+
+
+@pytest.mark.parametrize("name", list(ENTRY_POINTS))
+def test_compiled_entry_points_refuse_a_field(name):
+    with pytest.raises(ValueError, match=REFUSED):
+        ENTRY_POINTS[name](MAGNETIC)
+
+
+def test_simulate_many_to_a_folder_refuses_a_field(tmp_path):
+    with pytest.raises(ValueError, match=REFUSED):
+        simulate_many(MAGNETIC, [START[0]], [START[1]], max_collisions=5, out=tmp_path / "run", scheduler="sync",
+                      progress=False)
+    assert not (tmp_path / "run").exists()
+
+
+def test_a_lattice_refuses_a_field_too():
+    torus = tables.sinai_torus(0.3).replace(magnetic=1.5)
+    with pytest.raises(ValueError, match=REFUSED):
+        simulate(torus, (0.0, 0.45), (1.0, 0.3), max_collisions=5)
+
+
+def test_free_fall_tools_refuse_a_field_by_name():
+    msg = r"^scene: .* is derived for free fall under the force; it does not support a magnetic field"
+    with pytest.raises(ValueError, match=msg):
+        lyapunov(MAGNETIC, *START, n_collisions=10)
+    with pytest.raises(ValueError, match=msg):
+        finite_time_lyapunov(MAGNETIC, [START[0]], [START[1]], n_collisions=10)
+    with pytest.raises(ValueError, match=msg):
+        energy_at(MAGNETIC, *START, 0.0)
+
+
+def test_cli_refuses_a_field_in_one_line(tmp_path, capsys):
+    path = tmp_path / "box.yaml"
+    MAGNETIC.to_yaml(path)
+    code = main(["simulate", str(path), "--position", "0.4", "0.3", "--velocity", "0.7", "0.5", "-n", "5",
+                 "-o", str(tmp_path / "orbit.nc")])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err.count("\n") == 1 and err.startswith("noslipsim: error: ") and MAGNETIC_REFUSAL in err
+    assert not (tmp_path / "orbit.nc").exists()
+
+
+def test_the_reference_runs_a_field():
+    """The one place a magnetic scene runs today: the orbit collides and keeps its kinetic energy."""
+    ds = simulate_reference(MAGNETIC, *START, max_collisions=5, dps=30)
+    assert int(ds.n_collisions) == 5
+    kinetic = ds.vx.values ** 2 + ds.vy.values ** 2 + ds.spin.values ** 2
+    np.testing.assert_allclose(kinetic, START[1][0] ** 2 + START[1][1] ** 2, rtol=1e-14)
