@@ -303,10 +303,14 @@ def _ends_with_one_error_line(proc, expected):
     assert err.strip().count("\n") == 0 and err.startswith("noslipsim: error: ") and expected in err, err
 
 
-def test_listening_beyond_this_machine_needs_an_explicit_host_allowlist():
-    proc = _explore("--address", "0.0.0.0", "--port", "0")
+@pytest.mark.parametrize("address, expected", [
+    ("0.0.0.0", "--address 0.0.0.0: listening beyond this machine needs --allow-host"),
+    ("::1", "--address ::1: the explorer listens on IPv4 addresses and names only"),  # Bokeh's lists: name:port
+])
+def test_listening_beyond_this_machine_needs_an_explicit_host_allowlist(address, expected):
+    proc = _explore("--address", address, "--port", "0")
     try:
-        _ends_with_one_error_line(proc, "--address 0.0.0.0: listening beyond this machine needs --allow-host")
+        _ends_with_one_error_line(proc, expected)
     finally:
         proc.kill()
         proc.communicate()

@@ -204,7 +204,7 @@ class ExplorerApp:
         self.s_launch = pn.widgets.FloatSlider(label="launch point s (velocity portrait)", start=0.0, end=total,
                                                step=total / 1000, value=0.5 * total)
         self.readout = pn.pane.Markdown("", name="readout", width=FIGURE_SIZE)
-        self.alert = pn.pane.Alert("", alert_type="warning", visible=False, name="message")
+        self.alert = pn.pane.Alert("", alert_type="warning", visible=False, name="message", width=FIGURE_SIZE)
         self.play.param.watch(self._on_play, "value")
         self.step_button.on_click(lambda _: self._guard(lambda: self.push(self.model.step())))
         self.reset_button.on_click(lambda _: self._guard(self._reset))

@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import ipaddress
 import os
-import socket
 import threading
 import uuid
 
@@ -63,9 +62,7 @@ BIND_TIMEOUT = 60.0
 
 def free_port(address=DEFAULT_ADDRESS):
     """A TCP port free on ``address`` now (for tests and ``--port 0``)."""
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
-        s.bind((address, 0))
-        return s.getsockname()[1]
+    return _check_bindable(address, 0)
 
 
 def is_loopback(address):
@@ -79,7 +76,7 @@ def is_loopback(address):
 
 
 def _listens_on_loopback(address):
-    return is_loopback(address) or address in ("0.0.0.0", "::", "")
+    return is_loopback(address) or address in ("0.0.0.0", "")
 
 
 def _with_port(host, port):
@@ -87,7 +84,7 @@ def _with_port(host, port):
     host = host.strip().lower()
     if not host:
         raise ValueError("--allow-host: expected a host name or address, got an empty one")
-    if host.endswith("]") or ":" not in host:
+    if ":" not in host:
         return f"{host}:{port}"
     return host
 
@@ -127,15 +124,19 @@ def check_exposure(address, allow_hosts):
     Raises
     ------
     ValueError
-        ``address`` is not the loopback interface and ``allow_hosts`` is empty.
+        ``address`` is not the loopback interface and ``allow_hosts`` is empty,
+        or is an IPv6 address.
     """
+    if ":" in address:  # Bokeh's host and origin lists are name:port only
+        raise ValueError(f"--address {address}: the explorer listens on IPv4 addresses and names only "
+                         "(127.0.0.1 for this machine)")
     if is_loopback(address):
         return None
     if not allow_hosts:
         raise ValueError(f"--address {address}: listening beyond this machine needs --allow-host NAME, the name or "
                          "address other machines use to reach it (an SSH tunnel to 127.0.0.1 is safer: "
                          "docs/explorer.md, Security)")
-    where = "every interface" if address in ("0.0.0.0", "::", "") else address
+    where = "every interface" if address in ("0.0.0.0", "") else address
     return (f"noslipsim explore: warning: listening on {where}: anyone who can reach this machine's port and "
             f"names it {', '.join(allow_hosts)} can open pages and run orbits on its CPU (no login, no encryption)")
 
@@ -270,12 +271,18 @@ def _bind_error(address, port, err):
 
 
 def _check_bindable(address, port):
-    """Bind ``address:port`` as the server will, and let go; raise its error as one line."""
+    """Bind ``address:port`` as the server will and let go; returns the port (a free one for 0).
+
+    Raises its error as one line (``OSError``: in use, not this machine's address).
+    """
     try:
-        for sock in bind_sockets(port, address):
-            sock.close()
+        sockets = bind_sockets(port, address)
     except OSError as err:
         raise _bind_error(address, port, err) from None
+    port = sockets[0].getsockname()[1]
+    for sock in sockets:
+        sock.close()
+    return port
 
 
 def serve(scene_path, *, address=DEFAULT_ADDRESS, port=DEFAULT_PORT, show=True, limits: Limits | None = None,
@@ -322,8 +329,7 @@ def serve(scene_path, *, address=DEFAULT_ADDRESS, port=DEFAULT_PORT, show=True, 
     """
     say = say or (lambda line: None)
     warning = check_exposure(address, allow_hosts)
-    port = port or free_port(address)
-    _check_bindable(address, port)  # a port in use says so now, not after a minute of compiling
+    port = _check_bindable(address, port)  # a port in use says so now, not after a minute of compiling
     path = os.path.abspath(os.fspath(scene_path))
     scene, _ = load_scene(path)
     if scene is not None:
@@ -333,17 +339,24 @@ def serve(scene_path, *, address=DEFAULT_ADDRESS, port=DEFAULT_PORT, show=True, 
     options = {"address": address, "port": port, "hosts": allowed_hosts(address, port, allow_hosts),
                "show": show, "title": f"noslipsim explore {os.path.basename(path)}"}
     if threaded:
-        return _serve_in_thread(page, options)
+        thread = _serve_in_thread(page, options)
+        _announce(say, warning, scene_path, address, port)
+        return thread
     try:
         server = _server(page, **options)
     except OSError as err:
         raise _bind_error(address, port, err) from None
-    if warning:
-        say(warning)
-    say(f"noslipsim explore: serving {scene_path} on http://{address}:{port}/ (Ctrl-C to stop)")
+    _announce(say, warning, scene_path, address, port)
     server.start()
     server.io_loop.start()
     return server
+
+
+def _announce(say, warning, scene_path, address, port):
+    """The terminal's lines once the server listens: what it exposes (if anything), and its URL."""
+    if warning:
+        say(warning)
+    say(f"noslipsim explore: serving {scene_path} on http://{address}:{port}/ (Ctrl-C to stop)")
 
 
 def _serve_in_thread(page, options):

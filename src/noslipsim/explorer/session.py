@@ -193,7 +193,11 @@ class Explorer:
         start = {"position": inside, "velocity": [0.6, 0.8], "spin": 0.0, "element": -1}
         for law in ("no-slip", "specular"):
             for strength in sorted({0.0, self.force_strength or 1.0}):
-                _run(self._physics_scene(law, None, strength), [start], 1)
+                try:
+                    scene = self._physics_scene(law, None, strength)
+                except ValueError:  # the page would be refused this physics too: nothing to compile
+                    continue
+                _run(scene, [start], 1)
 
     def _deepest_point(self, n=41):
         """The point of an ``n x n`` grid over the view deepest inside the table, or ``None``."""
