@@ -368,9 +368,9 @@ class ExplorerApp:
             return
         self._readout_at = now
         self._draw_force()
-        self.readout.object = self.readout_text()
+        self.readout.object = self._readout_text()
 
-    def readout_text(self):
+    def _readout_text(self):
         """The readout's Markdown: clock, counts, energy (a dash before the first orbit), stop reasons, physics."""
         r = self.model.readout()
         reasons = ", ".join(f"{k}: {v}" for k, v in sorted(r["stop_reasons"].items())) or "none"
