@@ -102,7 +102,9 @@ def test_beam_starts_outside_the_table_are_left_out_and_said():
     (lambda ex: ex.launch_from_portrait(0.1, 0.1, s_launch=99.0), "launch point s: must lie in"),
     (lambda ex: ex.set_speed(1e9), "speed: must be in"),
     (lambda ex: ex.set_speed(float("nan")), "speed: must be finite"),
-    (lambda ex: ex.set_physics(force_strength=-1.0), "the strength must be >= 0"),
+    (lambda ex: ex.set_physics(force_strength=-1.0), r"the strength must be in \[0, 1000\], got -1"),
+    (lambda ex: ex.set_physics(force_strength=1e9), r"the strength must be in \[0, 1000\], got 1e\+09"),
+    (lambda ex: ex.set_physics(gamma=150.0), "gamma: must be <= 100 here, got 150"),
     (lambda ex: ex.set_physics(gamma=-0.5), "gamma: must be >= 0"),
 ])
 def test_refused_requests_say_why_in_one_line(request_, message):
@@ -177,10 +179,12 @@ def test_a_periodic_scene_is_drawn_folded_into_cell_zero():
 
 def test_the_server_accepts_only_its_own_origin_and_reads_only_its_scene(tmp_path, capsys):
     from noslipsim.cli import main
-    from noslipsim.explorer.server import allowed_origins, load_scene
+    from noslipsim.explorer.server import allowed_hosts, load_scene
 
-    assert allowed_origins("127.0.0.1", 5006) == ["127.0.0.1:5006", "localhost:5006"]
-    assert allowed_origins("192.0.2.7", 80) == ["192.0.2.7:80"]
+    assert allowed_hosts("127.0.0.1", 5006) == ["127.0.0.1:5006", "localhost:5006"]
+    assert allowed_hosts("192.0.2.7", 80, ["192.0.2.7"]) == ["192.0.2.7:80"]
+    assert allowed_hosts("0.0.0.0", 5006, ["Box.LAN", "localhost:8000"]) == [
+        "127.0.0.1:5006", "box.lan:5006", "localhost:5006", "localhost:8000"]
     bad = tmp_path / "bad.yaml"
     bad.write_text("law: no-slip\nelements:\n  - {type: circle, center: [0, 0], radius: -1, side: inside}\n")
     scene, error = load_scene(bad)
@@ -215,6 +219,7 @@ def test_the_command_serves_the_page_on_the_loopback_address():
     argv = [sys.executable, "-m", "noslipsim.cli", "explore", scene_file, "--port", "0", "--no-browser"]
     proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
+        assert proc.stdout.readline().startswith("noslipsim explore: compiling kernels")
         line = proc.stdout.readline()
         url = re.search(r"http://127\.0\.0\.1:\d+/", line)
         assert url, line
@@ -251,3 +256,124 @@ def test_the_server_waits_for_a_page_that_falls_behind():
     app._sent += MAX_IN_FLIGHT + 5
     app.tick()
     assert app._acked == app._sent - 1
+
+
+def test_the_readout_shows_no_nan_before_the_first_orbit_and_no_negative_zero():
+    from noslipsim.explorer.app import ExplorerApp
+
+    app = ExplorerApp(BOX)
+    assert "nan" not in app.readout.object and "**energy** –" in app.readout.object
+    app._physics(force_strength=0.0)  # along -y: the force is (0 * 0, 0 * -1) = (0, -0)
+    assert math.copysign(1.0, app.model.scene.force[1]) == -1.0
+    assert "force = (0, 0)" in app.readout.object
+
+
+@pytest.mark.parametrize("widget, value, message", [
+    ("gamma", 150.0, "gamma: must be <= 100 here, got 150"),
+    ("force", -1.0, "force: the strength must be in [0, 1000], got -1"),
+    ("speed", 1e9, "speed: must be in (0, 10000], got 1e+09"),
+    ("speed", -1.0, "speed: must be in (0, 10000], got -1"),
+    ("launch_speed", -1.0, "launch speed: must be > 0"),
+])
+def test_a_refused_value_is_said_and_the_widget_goes_back(widget, value, message):
+    """A value set through the websocket (beyond what the page's own spinner lets through)."""
+    from noslipsim.explorer.app import ExplorerApp
+
+    app = ExplorerApp(BOX)
+    w = getattr(app, widget)
+    before, physics = w.value, (app.model.scene, app.model.speed)
+    w.value = value
+    assert w.value == before and (app.model.scene, app.model.speed) == physics
+    assert app.alert.visible and message in app.alert.object.replace("\\", "")  # shown unescaped in the page
+
+
+def _explore(*options):
+    """``noslipsim explore`` on the Sinai box in a fresh process, no browser."""
+    import subprocess
+    import sys
+
+    argv = [sys.executable, "-m", "noslipsim.cli", "explore", str(ROOT / "examples" / "sinai_box.yaml"),
+            "--no-browser", *options]
+    return subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+def _ends_with_one_error_line(proc, expected):
+    out, err = proc.communicate(timeout=300)
+    assert proc.returncode == 2 and "serving" not in out
+    assert err.strip().count("\n") == 0 and err.startswith("noslipsim: error: ") and expected in err, err
+
+
+@pytest.mark.parametrize("address, expected", [
+    ("0.0.0.0", "--address 0.0.0.0: listening beyond this machine needs --allow-host"),
+    ("::1", "--address ::1: the explorer listens on IPv4 addresses and names only"),  # Bokeh's lists: name:port
+])
+def test_listening_beyond_this_machine_needs_an_explicit_host_allowlist(address, expected):
+    proc = _explore("--address", address, "--port", "0")
+    try:
+        _ends_with_one_error_line(proc, expected)
+    finally:
+        proc.kill()
+        proc.communicate()
+
+
+def test_a_port_in_use_is_one_error_line_and_no_serving_line():
+    import socket
+
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen()
+        port = busy.getsockname()[1]
+        proc = _explore("--port", str(port))
+        try:
+            _ends_with_one_error_line(proc, f"cannot listen on 127.0.0.1:{port}: Address already in use")
+        finally:
+            proc.kill()
+            proc.communicate()
+
+
+def test_an_allowed_host_is_served_and_what_it_exposes_is_said():
+    """``--address 0.0.0.0 --allow-host NAME``: the warning, then the URL; NAME and the loopback names are
+    served, any other Host is refused (the kernels were compiled before the server said where it listens)."""
+    import http.client
+
+    from noslipsim.explorer.server import free_port
+
+    port = free_port("0.0.0.0")
+    proc = _explore("--address", "0.0.0.0", "--port", str(port), "--allow-host", "box.test")
+    try:
+        lines = [proc.stdout.readline() for _ in range(3)]
+        assert lines[0].startswith("noslipsim explore: compiling kernels")
+        assert "warning: listening on every interface" in lines[1] and "box.test" in lines[1], lines
+        assert lines[2].startswith("noslipsim explore: serving ") and f":{port}/" in lines[2], lines
+        for host, status in ((f"box.test:{port}", 200), (f"localhost:{port}", 200), (f"evil.test:{port}", 403)):
+            conn = http.client.HTTPConnection("127.0.0.1", port, timeout=120)
+            conn.request("GET", "/", headers={"Host": host})
+            assert conn.getresponse().status == status, host
+            conn.close()
+    finally:
+        proc.terminate()
+        proc.communicate(timeout=60)
+
+
+def test_the_kernels_a_page_can_ask_for_are_compiled_before_the_server_listens(monkeypatch):
+    """Each law, with and without force, runs through the kernel before the port is bound."""
+    import socket
+
+    from noslipsim.explorer import session
+    from noslipsim.explorer.server import free_port, serve
+
+    port, ran = free_port(), []
+    real = session.simulate_many
+
+    def run(scene, *args, **kwargs):
+        with socket.socket() as s:
+            ran.append((scene.law, scene.force != (0.0, 0.0), s.connect_ex(("127.0.0.1", port)) == 0))
+        return real(scene, *args, **kwargs)
+
+    monkeypatch.setattr(session, "simulate_many", run)
+    srv = serve(ROOT / "examples" / "sinai_box.yaml", port=port, show=False, threaded=True)
+    try:
+        assert sorted(ran) == [("no-slip", False, False), ("no-slip", True, False), ("specular", False, False),
+                               ("specular", True, False)]
+    finally:
+        srv.stop()

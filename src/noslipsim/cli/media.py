@@ -42,8 +42,11 @@ def add_commands(sub, debug):
                                    "(pip install 'noslipsim[explore]'). Stop with Ctrl-C.")
     e.add_argument("scene", help="scene file (YAML; the only file the server reads, anew for each page)")
     e.add_argument("--address", default=None,
-                   help="interface to listen on (default 127.0.0.1: this machine only; give one explicitly "
-                        "to let other machines in)")
+                   help="interface to listen on (default 127.0.0.1: this machine only; any other needs "
+                        "--allow-host; an SSH tunnel is safer, docs/explorer.md)")
+    e.add_argument("--allow-host", action="append", default=[], metavar="NAME[:PORT]",
+                   help="a host name or address the pages use to reach the server (repeat for more); "
+                        "requests naming any other host are refused")
     e.add_argument("--port", type=int, default=5006, help="TCP port (default 5006; 0 picks a free one)")
     e.add_argument("--no-browser", action="store_true", help="do not open a browser")
     e.add_argument("--max-orbits", type=int, default=None, help="orbits one page may run at once (default 200)")
@@ -86,7 +89,7 @@ def _stopped(out):
 def explore(args):
     """``noslipsim explore``: serve the explorer until interrupted."""
     try:
-        from ..explorer.server import DEFAULT_ADDRESS, free_port, load_scene, serve
+        from ..explorer.server import DEFAULT_ADDRESS, load_scene, serve
         from ..explorer.session import Limits
     except ImportError as err:
         raise ValueError(f"the explorer needs Panel and Bokeh ({err}): pip install 'noslipsim[explore]'") from None
@@ -102,10 +105,8 @@ def explore(args):
         limits["max_collisions"] = _count(args.max_collisions, "--max-collisions")
     if not 0 <= args.port < 65536:
         raise ValueError(f"--port: expected 0 to 65535, got {args.port}")
-    address = args.address or DEFAULT_ADDRESS
-    port = args.port or free_port(address)
-    print(f"noslipsim explore: serving {args.scene} on http://{address}:{port}/ (Ctrl-C to stop)", flush=True)
-    serve(args.scene, address=address, port=port, show=not args.no_browser, limits=Limits(**limits))
+    serve(args.scene, address=args.address or DEFAULT_ADDRESS, port=args.port, show=not args.no_browser,
+          limits=Limits(**limits), allow_hosts=args.allow_host, say=lambda line: print(line, flush=True))
 
 
 def _count(value, option):

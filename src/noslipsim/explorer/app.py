@@ -12,6 +12,7 @@ package's kernel's.
 from __future__ import annotations
 
 import math
+import re
 import time
 
 import panel as pn
@@ -20,11 +21,12 @@ from bokeh.models import Arrow, ColumnDataSource, CustomJS, Label, Range1d, VeeH
 from bokeh.plotting import figure
 from bokeh.transform import linear_cmap
 
+from .._validate import positive
 from ..plot import table_shapes
 from .raster import PortraitRaster
 from .session import PALETTE_SIZE, Explorer, Limits, palette
 
-__all__ = ["ExplorerApp", "error_page"]
+__all__ = ["ExplorerApp", "as_text", "error_page"]
 
 #: Frames per second of the periodic callback.
 FPS = 30
@@ -48,10 +50,28 @@ ACK_TIMEOUT = 1.0
 _COUNTER = ("window.noslipsimFrames = (window.noslipsimFrames || 0) + 1;"
             " cb_obj.tags = [window.noslipsimFrames];")
 
+#: Every ASCII punctuation character: CommonMark lets each be escaped with a backslash, which makes it text.
+_PUNCTUATION = re.compile(r"([!-/:-@\[-`{-~])")
+
+
+def as_text(text):
+    """``text`` for a Markdown pane, shown as written: no tag, entity, link or emphasis in it takes effect.
+
+    Scene files and requests reach the page through messages (an unknown
+    key, a refused value); escaped, ``<img onerror=...>`` is shown, not run.
+    """
+    return _PUNCTUATION.sub(r"\\\1", str(text))
+
 
 def error_page(message):
     """The page shown when the scene cannot be loaded: the CLI's one line, nothing else."""
-    return pn.Column(pn.pane.Alert(message, alert_type="danger", name="error"), sizing_mode="stretch_width")
+    return pn.Column(pn.pane.Alert(as_text(message), alert_type="danger", name="error"),
+                     sizing_mode="stretch_width")
+
+
+def _number(value, digits):
+    """``value`` to ``digits`` significant digits, ``-0`` shown as ``0``."""
+    return f"{value + 0.0:.{digits}g}"
 
 
 class ExplorerApp:
@@ -80,6 +100,7 @@ class ExplorerApp:
         self._ack_at = 0.0
         self._drag = None
         self._callback = None
+        self._restoring = False  # a refused value is being put back: not a request
         self.table = self._table_figure()
         self.phase = self._portrait_figure()
         self._controls(title)
@@ -120,7 +141,9 @@ class ExplorerApp:
         self.arrow = Arrow(end=VeeHead(size=10), line_width=2, line_color="#2ca02c", x_start=0, y_start=0,
                            x_end=0, y_end=0, visible=False)
         fig.add_layout(self.arrow)
-        self.arrow_label = Label(x=0, y=0, text="", text_font_size="10pt", text_color="#2ca02c", visible=False)
+        # right-aligned below the arrow, its top inside the frame: never clipped by the frame's edge
+        self.arrow_label = Label(x=0, y=0, text="", text_font_size="10pt", text_color="#2ca02c", text_align="right",
+                                 text_baseline="top", visible=False, name="force label")
         fig.add_layout(self.arrow_label)
         fig.on_event(events.Tap, self._on_table_tap)
         fig.on_event(events.PanStart, self._on_pan_start)
@@ -150,7 +173,7 @@ class ExplorerApp:
 
     def _label_portrait(self, fig):
         if self.model.portrait == "velocity":
-            fig.title.text = "velocity portrait (v_t, w): click to launch from the red mark"
+            fig.title.text = "velocity portrait: click to launch from the red mark"
             fig.xaxis.axis_label, fig.yaxis.axis_label = "v_t", "w"
         else:
             fig.title.text = "Birkhoff portrait (s, sin alpha): click to launch"
@@ -164,33 +187,35 @@ class ExplorerApp:
         self.play = pn.widgets.Toggle(label="play / pause", color="primary", value=False)
         self.step_button = pn.widgets.Button(label="step (next collision)")
         self.reset_button = pn.widgets.Button(label="reset", color="warning")
+        # no bounds on the number widgets: every value reaches the model, which refuses it with a reason
+        # (a bound here would drop it silently and leave it shown)
         self.speed = pn.widgets.EditableFloatSlider(label="speed (time units per second)", start=0.1, end=100.0,
-                                                    step=0.1, value=1.0, fixed_start=0.01, fixed_end=lim.max_speed)
+                                                    step=0.1, value=1.0)
         self.law = pn.widgets.RadioButtonGroup(label="law", options=["no-slip", "specular"], value=m.scene.law)
         self.gamma = pn.widgets.EditableFloatSlider(label="gamma", start=0.0, end=3.0, step=0.01,
-                                                    value=round(m.scene.gamma, 4), fixed_start=0.0, fixed_end=100.0)
+                                                    value=round(m.scene.gamma, 4))
         self.force = pn.widgets.EditableFloatSlider(label="force strength", start=0.0, end=5.0, step=0.05,
-                                                    value=round(m.force_strength, 4), fixed_start=0.0,
-                                                    fixed_end=1.0e3)
+                                                    value=round(m.force_strength, 4))
         self.count = pn.widgets.IntSlider(label="particles per launch", start=1, end=lim.max_beam, value=1)
-        self.launch_speed = pn.widgets.FloatInput(label="launch speed", value=1.0, start=1e-6, step=0.1)
+        self.launch_speed = pn.widgets.FloatInput(label="launch speed", value=1.0, step=0.1)
         self.angle = pn.widgets.FloatSlider(label="tap direction (degrees)", start=-180.0, end=180.0, step=1.0,
                                             value=60.0)
         total = self._boundary_length() or 1.0  # a table of lines only: no boundary point to launch from
         self.s_launch = pn.widgets.FloatSlider(label="launch point s (velocity portrait)", start=0.0, end=total,
                                                step=total / 1000, value=0.5 * total)
-        self.readout = pn.pane.Markdown("", name="readout", sizing_mode="stretch_width")
-        self.alert = pn.pane.Alert("", alert_type="warning", visible=False, name="message")
+        self.readout = pn.pane.Markdown("", name="readout", width=FIGURE_SIZE)
+        self.alert = pn.pane.Alert("", alert_type="warning", visible=False, name="message", width=FIGURE_SIZE)
         self.play.param.watch(self._on_play, "value")
         self.step_button.on_click(lambda _: self._guard(lambda: self.push(self.model.step())))
         self.reset_button.on_click(lambda _: self._guard(self._reset))
-        self.speed.param.watch(lambda e: self._guard(lambda: self.model.set_speed(e.new)), "value")
-        self.law.param.watch(lambda e: self._guard(lambda: self._physics(law=e.new)), "value")
-        self.gamma.param.watch(lambda e: self._guard(lambda: self._physics(gamma=e.new)), "value")
-        self.force.param.watch(lambda e: self._guard(lambda: self._physics(force_strength=e.new)), "value")
+        self._watch(self.speed, self.model.set_speed)
+        self._watch(self.law, lambda v: self._physics(law=v))
+        self._watch(self.gamma, lambda v: self._physics(gamma=v))
+        self._watch(self.force, lambda v: self._physics(force_strength=v))
+        self._watch(self.launch_speed, lambda v: positive(v, "launch speed"))
         self.s_launch.param.watch(lambda e: self._show_launch_point(), "value")
         self._show_launch_point()
-        self.sidebar = pn.Column(pn.pane.Markdown(f"### {title}"), self.play, pn.Row(self.step_button,
+        self.sidebar = pn.Column(pn.pane.Markdown(f"### {as_text(title)}"), self.play, pn.Row(self.step_button,
                                  self.reset_button), self.speed, self.law, self.gamma, self.force, self.count,
                                  self.launch_speed, self.angle, self.s_launch, width=320)
         for w in (self.speed, self.gamma, self.force, self.count, self.launch_speed, self.angle, self.s_launch):
@@ -228,8 +253,24 @@ class ExplorerApp:
             self._say(str(err))
             return False
 
+    def _watch(self, widget, action):
+        """Call ``action`` with each new value of ``widget``; a refused value says why and the widget goes back.
+
+        The value put back is the one before, the last the model accepted.
+        """
+        def changed(event):
+            if self._restoring or self._guard(lambda: action(event.new)):
+                return
+            self._restoring = True
+            try:
+                widget.value = event.old
+            finally:
+                self._restoring = False
+
+        widget.param.watch(changed, "value")
+
     def _say(self, text):
-        self.alert.object = text
+        self.alert.object = as_text(text)
         self.alert.visible = bool(text)
 
     def _on_table_tap(self, event):
@@ -327,14 +368,21 @@ class ExplorerApp:
             return
         self._readout_at = now
         self._draw_force()
+        self.readout.object = self._readout_text()
+
+    def _readout_text(self):
+        """The readout's Markdown: clock, counts, energy (a dash before the first orbit), stop reasons, physics."""
         r = self.model.readout()
         reasons = ", ".join(f"{k}: {v}" for k, v in sorted(r["stop_reasons"].items())) or "none"
-        m = self.model
-        self.readout.object = (
-            f"**t** = {r['clock']:.4g} &nbsp; **orbits** {r['orbits']} &nbsp; **collisions** {r['collisions']}  \n"
-            f"**energy** {r['energy']:.10g} &nbsp; **relative energy error** {r['energy_error']:.2e}  \n"
+        energy = "–" if r["orbits"] == 0 else _number(r["energy"], 10)
+        scene = self.model.scene
+        return (
+            f"**t** = {_number(r['clock'], 4)} &nbsp; **orbits** {r['orbits']} &nbsp; **collisions** "
+            f"{r['collisions']}  \n"
+            f"**energy** {energy} &nbsp; **relative energy error** {r['energy_error']:.2e}  \n"
             f"**stop reasons** {reasons}  \n"
-            f"{m.scene.law}, gamma = {m.scene.gamma:.4g}, force = ({m.scene.force[0]:.3g}, {m.scene.force[1]:.3g})")
+            f"{scene.law}, gamma = {_number(scene.gamma, 4)}, "
+            f"force = ({_number(scene.force[0], 3)}, {_number(scene.force[1], 3)})")
 
     def _send_portrait(self):
         """The portrait image to the page (a few times a second while playing: one image, whatever the points)."""
@@ -355,5 +403,5 @@ class ExplorerApp:
         dx, dy = m.force_direction
         self.arrow.x_start, self.arrow.y_start = cx - 0.5 * length * dx, cy - 0.5 * length * dy
         self.arrow.x_end, self.arrow.y_end = cx + 0.5 * length * dx, cy + 0.5 * length * dy
-        self.arrow_label.x, self.arrow_label.y = x1 - 1.5 * size, y1 - 0.15 * size
-        self.arrow_label.text = f"force {strength:.3g}"
+        self.arrow_label.x, self.arrow_label.y = x1 - 0.05 * size, y1 - 1.15 * size
+        self.arrow_label.text = f"force {_number(strength, 3)}"

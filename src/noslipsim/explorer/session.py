@@ -70,6 +70,10 @@ class Limits:
         Collisions computed per frame over all refills (orbits beyond it wait a frame).
     max_speed : float
         Simulated time per second of playback.
+    max_gamma : float
+        Largest gamma (moment of inertia) a page may set.
+    max_force : float
+        Largest force strength a page may set.
     """
 
     max_orbits: int = 200
@@ -77,6 +81,8 @@ class Limits:
     max_collisions: int = 20_000
     frame_collisions: int = 400_000
     max_speed: float = 1.0e4
+    max_gamma: float = 100.0
+    max_force: float = 1.0e3
 
 
 @dataclass
@@ -153,19 +159,54 @@ class Explorer:
         The clock restarts at 0 and each orbit from its start, so the new
         physics is compared from the same starts.
         """
-        law = self.scene.law if law is None else law
-        gamma = self.scene.gamma if gamma is None else gamma
         strength = self.force_strength if force_strength is None else finite_float(force_strength, "force")
-        if strength < 0:
-            raise ValueError(f"force: the strength must be >= 0, got {strength}")
-        force = (strength * self.force_direction[0], strength * self.force_direction[1])
-        scene = self.scene.replace(law=law, gamma=gamma, force=force)
+        if not 0.0 <= strength <= self.limits.max_force:
+            raise ValueError(f"force: the strength must be in [0, {self.limits.max_force:g}], got {strength:g}")
+        if gamma is not None and finite_float(gamma, "gamma") > self.limits.max_gamma:
+            raise ValueError(f"gamma: must be <= {self.limits.max_gamma:g} here, got {gamma:g}")
+        scene = self._physics_scene(law, gamma, strength)
         starts = [o.start for o in self.orbits]
         self.scene, self.force_strength = scene, strength
         self.clock = 0.0
         self.orbits = []
         if starts:
             self._launch(starts)
+
+    def _physics_scene(self, law, gamma, strength):
+        """The scene with ``law`` and ``gamma`` (``None``: unchanged), the force of ``strength`` along its line."""
+        law = self.scene.law if law is None else law
+        gamma = self.scene.gamma if gamma is None else gamma
+        force = (strength * self.force_direction[0], strength * self.force_direction[1])
+        return self.scene.replace(law=law, gamma=gamma, force=force)
+
+    def warm(self):
+        """Compile (or load from numba's cache) every kernel variant the page's controls can reach.
+
+        Each law, with and without force, runs one collision of one orbit from
+        the deepest point of a grid over the view; a compile then never holds up
+        a page (it takes 10 to 20 s per variant the first time).  A table with no
+        grid point inside compiles at its first launch instead.
+        """
+        inside = self._deepest_point()
+        if inside is None:
+            return
+        start = {"position": inside, "velocity": [0.6, 0.8], "spin": 0.0, "element": -1}
+        for law in ("no-slip", "specular"):
+            for strength in sorted({0.0, self.force_strength or 1.0}):
+                try:
+                    scene = self._physics_scene(law, None, strength)
+                except ValueError:  # the page would be refused this physics too: nothing to compile
+                    continue
+                _run(scene, [start], 1)
+
+    def _deepest_point(self, n=41):
+        """The point of an ``n x n`` grid over the view deepest inside the table, or ``None``."""
+        x0, x1, y0, y1 = self.window
+        gx, gy = np.meshgrid(np.linspace(x0, x1, n), np.linspace(y0, y1, n))
+        points = np.c_[gx.ravel(), gy.ravel()]
+        depth = self.scene.depth(points)
+        k = int(np.argmax(depth))
+        return points[k].tolist() if depth[k] > 0.0 else None
 
     def set_speed(self, speed):
         """Simulated time per second of playback, ``0 < speed <= limits.max_speed``."""
@@ -270,10 +311,7 @@ class Explorer:
     def _compute(self, orbits, budget):
         """Compute (or recompute from the start) ``orbits`` with ``budget`` collisions each, in one kernel call."""
         budget = min(int(budget), self.limits.max_collisions)
-        starts = [o.start for o in orbits]
-        ds = simulate_many(self.scene, [s["position"] for s in starts], [s["velocity"] for s in starts],
-                           [s["spin"] for s in starts], start_elements=[s["element"] for s in starts],
-                           max_collisions=budget, record="log", scheduler="sync", progress=False)
+        ds = _run(self.scene, [o.start for o in orbits], budget)
         ax, ay = self.scene.force
         kind = self.portrait
         for i, o in enumerate(orbits):
@@ -433,6 +471,13 @@ class Explorer:
         return {"orbits": len(self.orbits), "collisions": drawn, "clock": self.clock,
                 "energy": float(last.energy[0]) if last is not None else math.nan,
                 "energy_error": worst, "stop_reasons": reasons, "message": self.message}
+
+
+def _run(scene, starts, budget):
+    """The orbits of ``starts`` (launch dicts) with ``budget`` collisions each, logged, in one kernel call."""
+    return simulate_many(scene, [s["position"] for s in starts], [s["velocity"] for s in starts],
+                         [s["spin"] for s in starts], start_elements=[s["element"] for s in starts],
+                         max_collisions=budget, record="log", scheduler="sync", progress=False)
 
 
 def _square(box):
