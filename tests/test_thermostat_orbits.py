@@ -143,3 +143,30 @@ def test_zero_field_is_the_straight_engine_bit_for_bit():
         b = simulate(therm, q, (0.6, 0.8), 0.1, max_collisions=500)
         for var in ("t", "x", "y", "vx", "vy", "spin"):
             np.testing.assert_array_equal(a[var].values, b[var].values)
+
+
+@pytest.mark.parametrize("name", ["hex_gas", "sinai_box"])
+def test_the_strongest_accepted_field_stays_in_the_table_and_a_stronger_one_is_refused(name):
+    """At the edge of the documented range (|a| L / |v|^2 = MAX_THERMOSTAT_FIELD) no flight leaves the table;
+    just past it the start is refused by name.  Fields of 1e8 on the hexagonal gas flew through the disk just
+    left (the reference re-hits it 2e-12 later), and the scene took fields up to 1e90."""
+    from noslipsim.scenes import MAX_THERMOSTAT_FIELD
+
+    scene, q, v, w, _ = CASES[name]
+    speed = math.hypot(*v)
+    length = max(scene.scale, abs(q[0]), abs(q[1]))
+    direction = np.array(scene.force) / math.hypot(*scene.force)
+    edge = MAX_THERMOSTAT_FIELD * speed ** 2 / length
+    for turn in (0.0, 2.0):  # the field along the gas's direction and turned by 2 radians
+        d = (direction[0] * math.cos(turn) - direction[1] * math.sin(turn),
+             direction[0] * math.sin(turn) + direction[1] * math.cos(turn))
+        strong = scene.replace(force=(edge * 0.9 * d[0], edge * 0.9 * d[1]))
+        ds = simulate(strong, q, v, w, max_collisions=2000)
+        assert ds.sizes["collision"] == 2000, ds.attrs["stop_reason"]
+        x0, y0, _origins = cell_frame(strong, ds)
+        tau = np.diff(ds.t.values)[:, None] * np.linspace(0.0, 1.0, 21)[None, 1:-1]
+        x, y, _, _ = strong.flight_states(x0[:-1, None], y0[:-1, None], ds.vx.values[:-1, None],
+                                          ds.vy.values[:-1, None], tau)
+        assert table_depth_rel(strong, np.stack([x.ravel(), y.ravel()], axis=-1)).min() >= -1e-12
+        with pytest.raises(ValueError, match=r"^velocity: the thermostatted field \|a\| L / \|v\|\^2 = .* lies beyond 1e\+06"):
+            simulate(scene.replace(force=(edge * 1.1 * d[0], edge * 1.1 * d[1])), q, v, w, max_collisions=10)

@@ -151,6 +151,12 @@ MAX_FORCE = MAX_MAGNITUDE ** 3
 #: Every segment, radius and arc must be at least this fraction of the table's size: the engine's
 #: tolerances are ``1e-11`` of it (core/tolerances.py), and a smaller piece would lie inside them.
 MIN_FEATURE = 1e-9
+#: The largest field a thermostatted flight is exact for, in the orbit's own units: ``|a| L / |v|^2``
+#: (``L`` the length scale).  Above about 4.5e7 a particle leaving a disk is turned back into it
+#: within ~1e-12 of the flight's time, a root the float engine misses (the hexagonal gas, 1e8 at
+#: R = 0.45: it flew on through the disk); up to 1.4e7 the flight audit found no leak on the
+#: hexagonal gas, a Sinai box, a circle and a stadium (benchmarks/RESULTS.md).
+MAX_THERMOSTAT_FIELD = 1e6
 _RANGE_DOC = "docs/conventions.md, 'Range of validity'"
 
 

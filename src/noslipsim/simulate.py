@@ -18,7 +18,7 @@ from ._validate import finite_float, finite_vector, zeros
 from ._version import __version__
 from .core import layout
 from .core.batch import F_CELL1, F_CELL2, F_CORNER, F_N, F_NREC, F_STOP, F_T, F_VX, F_VY, F_W, F_X, F_Y
-from .scenes import _RANGE_DOC, MAX_MAGNITUDE, MIN_FEATURE, MIN_MAGNITUDE, Scene
+from .scenes import _RANGE_DOC, MAX_MAGNITUDE, MAX_THERMOSTAT_FIELD, MIN_FEATURE, MIN_MAGNITUDE, Scene
 
 _COLUMNS = {
     "t": layout.LOG_T, "x": layout.LOG_X, "y": layout.LOG_Y, "vx": layout.LOG_VX,
@@ -40,7 +40,9 @@ def check_magnitudes(scene: Scene, rel: ArrayLike, v: ArrayLike, w: ArrayLike,
     its speed scale ``V`` is ``|v|`` (no force, or the isokinetic thermostat, which keeps ``|v|``)
     or ``max(|v|, sqrt(|a| L))`` under free fall.  Both must lie in ``[MIN_MAGNITUDE,
     MAX_MAGNITUDE]``, ``|w| <= MAX_MAGNITUDE``, and the table's smallest piece must be at least
-    ``MIN_FEATURE L`` (the engine's tolerances are relative to ``L``).  ``orbit`` prefixes the
+    ``MIN_FEATURE L`` (the engine's tolerances are relative to ``L``).  A thermostatted flight also
+    needs ``|a| L / |v|^2 <= MAX_THERMOSTAT_FIELD`` (its turning radius ``|v|^2 / |a|`` not below
+    ``L / MAX_THERMOSTAT_FIELD``: a sharper turn back into the element just left is missed).  ``orbit`` prefixes the
     messages: a string, or a callable of the orbit's index (``lambda i: f'orbit {i}: '`` for ensembles).
     """
     pos, vel, spin = fields
@@ -87,6 +89,16 @@ def check_magnitudes(scene: Scene, rel: ArrayLike, v: ArrayLike, w: ArrayLike,
         i = first(bad)
         raise ValueError(f"{spin}: {name(i)}|w| = {abs(w[i]):.3g} lies beyond {MAX_MAGNITUDE:g}, the largest spin "
                          f"the engine is exact for ({_RANGE_DOC})")
+    if scene.thermostat is not None and a > 0.0:
+        with np.errstate(all="ignore"):
+            stiff = a * L / (speed * speed)
+        bad = (speed > 0.0) & ~(stiff <= MAX_THERMOSTAT_FIELD)  # (zero speed: refused by name elsewhere)
+        if bad.any():
+            i = first(bad)
+            raise ValueError(f"{vel}: {name(i)}the thermostatted field |a| L / |v|^2 = {stiff[i]:.3g} lies beyond "
+                             f"{MAX_THERMOSTAT_FIELD:g}, the strongest field its flights are exact for: a turn "
+                             f"back into the element just left would be missed; use a larger speed or a weaker "
+                             f"force ({_RANGE_DOC})")
 
 
 def check_start(scene: Scene, position, velocity, spin):

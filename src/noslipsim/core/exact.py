@@ -83,7 +83,7 @@ def two_sum(a, b):
 def two_prod(a, b):
     """``(p, e)`` with ``p = fl(a b)`` and ``p + e = a b`` exactly (barring underflow)."""
     p = a * b
-    return p, _fma(a, b, -p)
+    return p, fma(a, b, -p)
 
 
 @jit(inline="always")
