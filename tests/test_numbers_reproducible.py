@@ -10,12 +10,14 @@ below what its computation determines.
 import itertools
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from noslipsim.plot.numbers import below, canonical_eigenvalues, eigenvalues_text, format_value, rounded, significant
+from noslipsim.plot.prose import marked_numbers
 
 ROOT = Path(__file__).resolve().parents[1]
 PROSE = ["README.md", "config/README.md", "docs/figures.md"]
@@ -130,3 +132,38 @@ def test_a_periodic_orbit_found_from_a_start_one_ulp_away_prints_the_same(case):
         assert found.converged, found.message
         texts.add((below(found.residual, 1e-12), eigenvalues_text(found.monodromy.eigenvalues)))
     assert len(texts) == 1, texts
+
+
+# ---------------------------------------------------------------- the committed numbers
+def test_committed_numbers_hold_no_digit_below_their_computation(committed):
+    """Every stored float is cut to the digits its computation determines (not 0.11597000000000002)."""
+    noisy = {name: value for name, value in float_fields(committed) if digits_of(value) > MAX_DIGITS}
+    assert noisy == {}
+
+
+def test_committed_numbers_print_the_same_one_ulp_away(committed):
+    """Each record's text (the table's and every prose format) is the same with its floats one ulp away."""
+    formats = {}
+    for name in PROSE:
+        for _, ref, fmt in marked_numbers((ROOT / name).read_text(encoding="utf-8")):
+            formats.setdefault(ref, {None}).add(fmt)
+    for subject, records in committed.items():
+        for key, record in records.items():
+            if not isinstance(record["value"], float):
+                continue
+            for fmt in formats.get(f"{subject}.{key}", {None}):
+                texts = set()
+                for value in ulp_neighbours(record["value"]):
+                    for stderr in ulp_neighbours(record["stderr"]) if "stderr" in record else [None]:
+                        bumped = dict(record, value=value, stderr=stderr)
+                        if fmt is not None:
+                            bumped["format"] = fmt
+                        texts.add(format_value(bumped))
+                assert len(texts) == 1, (subject, key, fmt, texts)
+
+
+def test_committed_notes_state_residuals_as_bounds(committed):
+    """No residual in a value or note is printed at the rounding level (``residual 5.8e-15``)."""
+    texts = [str(r.get(f, "")) for records in committed.values() for r in records.values() for f in ("value", "note")]
+    assert [t for t in texts if re.search(r"residual (?!<)", t)] == []
+    assert committed["orbits"]["pentagon_periodic_residual"]["value"] == "< 1e-12"
