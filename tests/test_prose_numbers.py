@@ -19,7 +19,8 @@ CAPTIONS = sorted((ROOT / "workflow" / "report").glob("*.rst"))
 NUMBERS = {"portraits": {"onset": {"description": "d", "value": 0.31875, "format": ".3f", "stderr": 0.0081},
                          "radius": {"description": "d", "value": 0.4587, "format": ".3f"},
                          "share": {"description": "d", "value": 0.9864, "format": ".1%"},
-                         "kind": {"description": "d", "value": "elliptic"}}}
+                         "kind": {"description": "d", "value": "elliptic"},
+                         "residual": {"description": "d", "value": "< 1e-12"}}}
 
 
 @pytest.fixture(scope="module")
@@ -63,3 +64,17 @@ def test_a_changed_number_is_caught_in_a_caption():
     assert nb.fill_prose(bad, NUMBERS, "rst") == good
     with pytest.raises(ValueError, match="kind"):
         nb.marked_numbers(good, "latex")
+
+
+def test_a_bound_is_quoted_like_a_number():
+    """A residual stated as its bound (``< 1e-12``, a text value) is marked and checked like a number."""
+    good = "residual < 1e-12<!--=portraits.residual-->.\n"
+    assert nb.marked_numbers(good) == [("< 1e-12", "portraits.residual", None)]
+    assert nb.prose_mismatches(good, NUMBERS) == []
+    bad = good.replace("1e-12", "1e-13")
+    assert nb.prose_mismatches(bad, NUMBERS) == ["portraits.residual: the prose says '< 1e-13', numbers.json "
+                                                 "gives '< 1e-12'"]
+    assert nb.fill_prose(bad, NUMBERS) == good
+    rst = ".. |portraits.residual| replace:: < 1e-12\n"
+    assert nb.prose_mismatches(rst, NUMBERS, "rst") == [] and nb.marked_numbers(rst, "rst")
+    assert "text value" in nb.prose_mismatches("< 1e-12<!--=portraits.residual:.1e-->", NUMBERS)[0]

@@ -7,6 +7,8 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np
 import xarray as xr
 
+from noslipsim.plot.numbers import significant
+
 ev = xr.load_dataset(snakemake.input.evidence)
 T, factor, n = ev.attrs["termination_time"], ev.attrs["time_factor"], ev.attrs["n_particles"]
 gamma = float(ev.gamma.sel(law="no-slip"))
@@ -18,7 +20,9 @@ def not_arrived(case, law, by):
     """Share of one case and law not arrived by time ``by``, with its binomial standard error."""
     t = ev.t_terminal.sel(case=case, law=law).values
     p = float(np.mean(~(t <= by)))
-    return p, float(np.sqrt(p * (1 - p) / t.size))
+    # k/n of n <= 1e5 particles: 6 significant digits tell every k apart; a binomial standard error: 3
+    # (docs/figures.md, "Which numbers and figures are the same on every machine")
+    return significant(p, 6), significant(np.sqrt(p * (1 - p) / t.size), 3)
 
 
 numbers = {}
@@ -40,7 +44,7 @@ near = np.hypot(gap.x_end.values, gap.y_end.values) < ev.attrs["spacing"] / 2
 numbers["gap_held_near_drop_point"] = dict(
     description=f"gap drop: no-slip particles not arrived by {factor:g} T that end within half a spacing of "
                 "the drop point",
-    value=float(near[left].mean()) if left.any() else 0.0, format=".1%",
+    value=significant(near[left].mean(), 6) if left.any() else 0.0, format=".1%",
     note="held in the gap where they start, bouncing between two pegs as in a no-slip channel")
 
 

@@ -8,12 +8,19 @@ import numpy as np
 import xarray as xr
 
 from noslipsim.analysis import arrival_curve, excess_kurtosis
+from noslipsim.plot.numbers import significant
 
 dist = xr.load_dataset(snakemake.input.distribution)
 long_run = xr.load_dataset(snakemake.input.arrivals)
 sweep = xr.load_dataset(snakemake.input.sweep)
 rows = xr.load_dataset(snakemake.input.rows)
 T, n = dist.attrs["max_time"], dist.attrs["n_particles"]
+# Each value is kept to the digits its computation determines (docs/figures.md, "Which numbers and figures are the
+# same on every machine").  A share of n <= 1e5 particles is k/n: 6 significant digits tell every k apart.  A
+# statistic of many samples (standard deviation, kurtosis) carries summation-order noise in its last bits and a
+# sampling error in its third digit: 6 significant digits.  A standard error is itself uncertain by about
+# 1/sqrt(2n) (a bootstrap's by its resampling): 3 significant digits.
+SHARE, STATISTIC, ERROR = 6, 6, 3
 gamma = float(dist.gamma.sel(law="no-slip"))
 board = (f"the {dist.attrs['board']} board" + (f", released at {dist.attrs['start']} ± {dist.attrs['spread']:g} with "
                                                f"speed {dist.attrs['speed']:g}" if dist.attrs["board"] == "bounded"
@@ -25,7 +32,7 @@ def share(ds, law, gamma=None):
     case = ds.isel(law=next(i for i, (name, g) in enumerate(zip(ds.law.values, ds.gamma.values))
                         if name == law and (gamma is None or np.isclose(g, gamma))))
     p = float(case.share_not_arrived)
-    return p, float(np.sqrt(p * (1 - p) / case.sizes["particle"]))
+    return significant(p, SHARE), significant(np.sqrt(p * (1 - p) / case.sizes["particle"]), ERROR)
 
 
 def arrived_x(law):
@@ -46,12 +53,13 @@ numbers["share_not_arrived_specular"] = dict(
 for law in ("specular", "no-slip"):
     numbers[f"std_terminal_{law.replace('-', '')}"] = dict(
         description=f"{law} standard deviation of the terminal horizontal displacement",
-        value=float(np.std(arrived_x(law), ddof=1)), format=".2f", paper="similar for both laws (no value given)")
+        value=significant(np.std(arrived_x(law), ddof=1), STATISTIC), format=".2f",
+        paper="similar for both laws (no value given)")
 for law in ("specular", "no-slip"):
     k, ke = excess_kurtosis(arrived_x(law))
     numbers[f"kurtosis_terminal_{law.replace('-', '')}"] = dict(
         description=f"{law} excess kurtosis of the terminal horizontal displacement (0 for a normal law)",
-        value=k, stderr=ke, format=".2f", paper="apparently Gaussian")
+        value=significant(k, STATISTIC), stderr=significant(ke, ERROR), format=".2f", paper="apparently Gaussian")
 for law in ("specular", "no-slip"):
     values = []
     for c in range(rows.sizes["case"]):
@@ -79,7 +87,8 @@ if (np.isfinite(float(trapped.trapped_share)) and int(trapped.arrivals_late) > 0
         and float(trapped.share_not_arrived_final) > 0):
     numbers["trapped_share_noslip"] = dict(
         description=f"no-slip (γ = {gamma:.3g}) share that never arrives, extrapolated from the arrival tail",
-        value=float(trapped.trapped_share), stderr=float(trapped.trapped_share_stderr), format=".2%",
+        value=significant(trapped.trapped_share, STATISTIC), stderr=significant(trapped.trapped_share_stderr, ERROR),
+        format=".2%",
         note=f"noslipsim.analysis.arrival_curve; arrivals in the last two half-decades of the run: "
              f"{int(trapped.arrivals_early)}, {int(trapped.arrivals_late)}")
 
@@ -90,13 +99,13 @@ if dist.attrs["board"] == "bounded":
     above = noslip.y_end.values + dist.attrs["start"][1] > top
     numbers["not_arrived_on_top_row"] = dict(
         description="no-slip particles not arrived by T that are still on or above the top row at T",
-        value=float(above[left].mean()) if left.any() else 0.0, format=".1%",
+        value=significant(above[left].mean(), SHARE) if left.any() else 0.0, format=".1%",
         note="hopping along the top row of the bounded board; the others are still descending")
 else:
     near = np.hypot(noslip.x_end.values, noslip.y_end.values) < dist.attrs["spacing"] / 2
     numbers["held_near_drop_point"] = dict(
         description="no-slip particles not arrived by T that end within half a spacing of the drop point",
-        value=float(near[left].mean()) if left.any() else 0.0, format=".1%",
+        value=significant(near[left].mean(), SHARE) if left.any() else 0.0, format=".1%",
         note="held in the gap between the two top pegs")
 at_end = arrival_curve(sweep, times=[T, sweep.attrs["max_time"]]).sel(law="no-slip")
 for k, when in ((0, "T"), (1, f"{sweep.attrs['time_factor']:g} T")):

@@ -11,10 +11,15 @@ import xarray as xr
 
 from noslipsim.analysis import elliptic_boundary
 from noslipsim.experiments import survival_pattern
+from noslipsim.plot.numbers import below, eigenvalues_text, rounded, significant
 
 band, min_run = snakemake.params.band, snakemake.params.min_run
 grid = {k: xr.load_dataset(snakemake.input[k]) for k in ("noforce", "force", "theta")}
 scan, wedge = xr.load_dataset(snakemake.input.scan), xr.load_dataset(snakemake.input.wedge)
+# Each value is kept to the digits its computation determines (docs/figures.md, "Which numbers and figures are the
+# same on every machine").  A share of n <= 1e5 counted points is k/n: 6 significant digits tell every k apart,
+# whatever order a mean summed the points in.
+SHARE = 6
 
 
 def threshold_side(ds):
@@ -22,7 +27,7 @@ def threshold_side(ds):
     R, Rs = ds.radius.values[:, None], ds.radius_threshold.values[None, :]
     keep = np.abs(R - Rs) >= band
     agree = (R > Rs) == ds.survived.values.astype(bool)
-    return float(agree[keep].mean()), int(keep.sum()), int(keep.size)
+    return significant(agree[keep].mean(), SHARE), int(keep.sum()), int(keep.size)
 
 
 numbers = {}
@@ -33,13 +38,13 @@ numbers["noforce_threshold_side"] = dict(
     note=f"{kept} of {total} points, |R - R*(φ)| < {band:g} left out; nearly tangent orbits (φ near π/2) included")
 numbers["noforce_monodromy_agreement"] = dict(
     description="no force: share of the grid where survival agrees with the monodromy's class",
-    value=grid["noforce"].attrs["agreement_share"], format=".1%", paper="(not computed)",
+    value=significant(grid["noforce"].attrs["agreement_share"], SHARE), format=".1%", paper="(not computed)",
     note=f"{grid['noforce'].attrs['n_decided']} elliptic or hyperbolic points")
 theta_f = grid["force"].attrs["theta"]
 numbers["force_monodromy_agreement"] = dict(
     description=f"force, θ = {theta_f:g}: share of the R × φ grid where survival agrees with the class of the "
-                "monodromy under gravity", value=grid["force"].attrs["agreement_share"], format=".1%",
-    paper="(not computed)", note=f"{grid['force'].attrs['n_decided']} elliptic or hyperbolic points")
+                "monodromy under gravity", value=significant(grid["force"].attrs["agreement_share"], SHARE),
+    format=".1%", paper="(not computed)", note=f"{grid['force'].attrs['n_decided']} elliptic or hyperbolic points")
 share, kept, total = threshold_side(grid["force"])
 numbers["force_threshold_side"] = dict(
     description=f"force, θ = {theta_f:g}: share of the grid on the side of the force-free threshold", value=share,
@@ -49,13 +54,17 @@ numbers["force_threshold_side"] = dict(
 same = grid["force"].linear_kind.values == grid["noforce"].linear_kind.values
 numbers["force_class_equals_noforce"] = dict(
     description=f"force, θ = {theta_f:g}: share of the R × φ grid whose linear class under gravity is the "
-                "force-free one", value=float(same.mean()), format=".0%", paper="the stability threshold is unaltered",
+                "force-free one", value=significant(same.mean(), SHARE), format=".0%",
+    paper="the stability threshold is unaltered",
     note=f"{grid['force'].sizes['radius']} × {grid['force'].sizes['phi']} grid; the share falls as θ grows "
          "(config/README.md)")
 edge = {k: elliptic_boundary(grid[k]).attrs for k in ("noforce", "force")}
+# R*(φ) - R_e(φ) is a difference of nearly equal radii (~0.5, each interpolated from monodromy traces known to
+# ~1e-14): it is known to an absolute ~1e-14 (another machine moved its 15th digit), so 10 decimals
 numbers["force_threshold_shift"] = dict(
     description=f"force, θ = {theta_f:g}: how far below the force-free threshold R*(φ) the elliptic region "
-                "begins (largest R*(φ) - R_e(φ), R_e where λ + 1/λ crosses 2)", value=edge["force"]["max_shift"],
+                "begins (largest R*(φ) - R_e(φ), R_e where λ + 1/λ crosses 2)",
+    value=rounded(edge["force"]["max_shift"], 10),
     format=".3f", paper="the stability threshold is unaltered",
     note=(f"at φ = {edge['force']['phi_of_max']:.2f}; mean {edge['force']['mean_shift']:.3f} over φ ≤ "
           f"{edge['force']['phi_max']:.2f} (φ + θ within 0.05 of π/2 left out); the same measure without force: "
@@ -71,7 +80,8 @@ numbers["noforce_clears_far_disk"] = dict(
     description="no force: grid points where the velocity turned up by the perturbation passes over the far disk, "
                 "δ(1 - R cos φ) > R(1 - sin φ) (the white strip near φ = π/2 and the grazing corner), that end "
                 "with 0 collisions",
-    value=float((ds.n_collisions.values[clears] == 0).mean()) if clears.any() else "no such point in this grid",
+    value=significant((ds.n_collisions.values[clears] == 0).mean(), SHARE) if clears.any()
+    else "no such point in this grid",
     format=".1%",
     paper="samples near φ = π/2, nearly tangent, have a noticeable experimental error",
     note=(f"{int(clears.sum())} points; they are {int((escaped_elliptic & clears).sum())} of the "
@@ -99,10 +109,11 @@ numbers["theta_pattern"] = dict(
           f"(π/2 - φ = {math.pi / 2 - phi:.3f}); {elliptic_high} elliptic orbits above π/2 - φ") if upper else "")
 numbers["theta_grid_monodromy_agreement"] = dict(
     description=f"R × θ at φ = {phi:g}: share where survival agrees with the monodromy's class",
-    value=ds.attrs["agreement_share"], format=".1%", paper="(not computed)")
+    value=significant(ds.attrs["agreement_share"], SHARE), format=".1%", paper="(not computed)")
 
 launch_phi = float(scan.phi.values[0])
-t_star = float(scan.theta_transition.sel(phi=launch_phi))
+# bisected to an absolute xtol (1e-13): 3 decimals fewer than it determines, so its last bits never reach them
+t_star = rounded(scan.theta_transition.sel(phi=launch_phi), round(-math.log10(scan.attrs["xtol"])) - 3)
 lam = scan.lambda_max.sel(phi=launch_phi)
 at = {t: float(lam.sel(theta=t, method="nearest")) for t in snakemake.params.thetas}
 numbers["wedge_transition_theta"] = dict(
@@ -128,8 +139,10 @@ for i in range(wedge.sizes["orbit"]):
         continue
     ev = o.eigenvalue_real.values + 1j * o.eigenvalue_imag.values
     key = "wedge_" + "_".join("".join(c if c.isalnum() else " " for c in case.lower()).split())
-    facts = (f"residual {float(o.residual):.1e}; {o.linear_kind.values}, eigenvalues "
-             + ", ".join(f"{abs(e):.4f}∠{np.angle(e):+.4f}" for e in ev)
+    # the residual as the finder's tolerance (its value is rounding noise); the eigenvalues in one canonical
+    # order (the solver's order of three unit eigenvalues follows the last bits)
+    facts = (f"residual {below(o.residual, wedge.attrs['tol'])}; {o.linear_kind.values}, eigenvalues "
+             + eigenvalues_text(ev)
              + f"; max |v_t - γw|/|V| at impacts {float(o.reversal_mismatch):.3f}")
     if int(o.unit_count):
         facts += (f"; eigenvalue 1: restarted {wedge.attrs['family_step']:g} along it, the finder lands on another "

@@ -205,7 +205,8 @@ def wedge_periodic_orbits(phi=0.6, gamma=1 / math.sqrt(2), *, gravity=1.0, rever
         ``linear_kind``, ``eigen_sum``, ``unit_count``, ``identity_distance``,
         ``reversal_mismatch``, ``path_reversing``, ``family_distance``,
         ``family_rotation``; ``eigenvalue_real``, ``eigenvalue_imag`` along
-        ``(orbit, eigenvalue)``.
+        ``(orbit, eigenvalue)``.  The attribute ``tol`` (the finder's
+        tolerance) bounds every searched orbit's ``residual``.
 
     Raises
     ------
@@ -272,7 +273,7 @@ def wedge_periodic_orbits(phi=0.6, gamma=1 / math.sqrt(2), *, gravity=1.0, rever
     ds["eigenvalue_imag"] = (("orbit", "eigenvalue"), ev.imag)
     ds.attrs.update(title="periodic orbits of no-slip wedges under gravity", phi=float(phi), gamma=float(gamma),
                     gravity=float(gravity), periods=periods, family_step=family_step, n_orbits=n,
-                    reversal_tolerance=REVERSAL_TOL)
+                    reversal_tolerance=REVERSAL_TOL, tol=float(tol))
     return annotate(ds)
 
 

@@ -8,6 +8,7 @@ number (invisible when rendered)::
 
     γ = 0.319 ± 0.008<!--=portraits.islands_onset_gamma_R0.45-->
     R ≈ 0.46<!--=portraits.islands_radius_for_paper_onset:.2f-->   (a format of its own)
+    < 1e-12<!--=orbits.pentagon_periodic_residual-->                (a bound, a text value)
 
 In a report caption (reStructuredText) the number is a substitution named after
 its record, defined once::
@@ -33,11 +34,14 @@ __all__ = ["MARKDOWN_MARK", "RST_MARK", "fill_prose", "marked_numbers", "prose_m
 #: when rendered): ``0.319 ± 0.008<!--=portraits.islands_onset_gamma_R0.45-->``, or with a format of its own,
 #: ``0.46<!--=portraits.islands_radius_for_paper_onset:.2f-->``.
 _NUMBER = r"[-−]?\d[\d,]*(?:\.\d+)?(?:e[-+]?\d+)?(?:\s?%)?"
-MARKDOWN_MARK = re.compile(rf"(?P<text>{_NUMBER}(?:\s?±\s?{_NUMBER})?)<!--=(?P<ref>[^\s:>]+)(?::(?P<fmt>[^\s>]+))?-->")
+#: A bound (``< 1e-12``): a record whose text value is a bound can be quoted like a number.
+_BOUND = rf"<\s?{_NUMBER}"
+_QUOTED = rf"{_BOUND}|{_NUMBER}(?:\s?±\s?{_NUMBER})?"
+MARKDOWN_MARK = re.compile(rf"(?P<text>{_QUOTED})<!--=(?P<ref>[^\s:>]+)(?::(?P<fmt>[^\s>]+))?-->")
 #: The same in reStructuredText (report captions): a substitution named after the record, defined once,
 #: ``θ* = |stability.wedge_transition_theta|`` with ``.. |stability.wedge_transition_theta| replace:: 1.121997``.
-RST_MARK = re.compile(rf"^\.\. \|(?P<ref>[a-z]+\.[^\s|:]+)(?::(?P<fmt>[^\s|]+))?\| replace:: (?P<text>{_NUMBER}"
-                      rf"(?:\s?±\s?{_NUMBER})?)[ \t]*$", re.M)
+RST_MARK = re.compile(rf"^\.\. \|(?P<ref>[a-z]+\.[^\s|:]+)(?::(?P<fmt>[^\s|]+))?\| replace:: (?P<text>{_QUOTED})"
+                      r"[ \t]*$", re.M)
 
 
 def _record(numbers, ref):
@@ -51,13 +55,16 @@ def _record(numbers, ref):
 def quoted_value(numbers, ref, fmt=None):
     """The text a quoted number must read: the record ``ref`` (``subject.key``) formatted as in the table.
 
-    ``fmt`` overrides the record's own format (``".2f"``: fewer digits in prose).
+    ``fmt`` overrides the record's own format (``".2f"``: fewer digits in prose).  A text value can be
+    quoted only if it is a bound (``"< 1e-12"``, :func:`noslipsim.plot.numbers.below`), as it is.
     """
     record = dict(_record(numbers, ref))
+    if isinstance(record["value"], str):
+        if fmt is None and re.fullmatch(_BOUND, record["value"]):
+            return record["value"]
+        raise ValueError(f"{ref}: a text value ({record['value']!r}) cannot be quoted as a number")
     if fmt is not None:
         record["format"] = fmt
-    if isinstance(record["value"], str):
-        raise ValueError(f"{ref}: a text value ({record['value']!r}) cannot be quoted as a number")
     return format_value(record)
 
 
