@@ -32,7 +32,7 @@ from ._unit import unit_pair
 from ._validate import finite_vector, no_unknown_keys, nonnegative, read_yaml, required
 from .core import layout
 from .core.laws import noslip_coefficients
-from .elements import Arc, Circle, Line, Segment, element_from_dict, law_name
+from .elements import Arc, Circle, Line, Segment, check_closed_chains, element_from_dict, law_name
 
 LAWS = {"no-slip": layout.NOSLIP, "noslip": layout.NOSLIP, "specular": layout.SPECULAR}
 _SCENE_KEYS = {"law", "gamma", "force", "thermostat", "elements", "lattice", "top"}
@@ -224,6 +224,7 @@ class Scene:
         object.__setattr__(self, "elements", _element_tuple(self.elements))
         if not self.elements:
             raise ValueError("elements: a scene needs at least one element")
+        check_closed_chains(self.elements)
         if self.lattice is not None:
             no_unknown_keys(self.lattice, {"a1", "a2"}, "lattice")
             a1 = finite_vector(required(self.lattice, "a1", "lattice"), "lattice.a1")
