@@ -6,6 +6,7 @@ error; ``run --help`` names the experiments; ``noslipsim plot`` of a table
 with an infinite line shows the table.
 """
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -145,3 +146,18 @@ def test_plot_of_a_table_with_an_infinite_line_shows_the_table():
     x0, x1, y0, y1 = _plot_window(torus, np.array([0.4]), np.array([0.1]))
     assert x0 <= -1.5 and x1 >= 1.5  # cell 0 and one cell on every side
     assert math.isfinite(x0 + x1 + y0 + y1)
+
+
+def test_lyapunov_of_the_wedge_from_the_shell(tmp_path, capsys):
+    # the paper's wedge is lines alone (no length scale): the command failed with a raw RuntimeWarning
+    path = tmp_path / "wedge.yaml"
+    wedge = ns.tables.wedge(0.6, law="specular")
+    wedge.to_yaml(path)
+    out = tmp_path / "w.nc"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        assert main(["lyapunov", str(path), "--position", "0", "1", "--velocity", "0.5", "0.4", "--spin", "0.3",
+                     "-n", "1000", "-o", str(out)]) == 0
+    lam = float(xr.open_dataset(out).lyapunov_exponent)
+    assert lam == analysis.lyapunov(wedge, (0.0, 1.0), (0.5, 0.4), 0.3, n_collisions=1000) and lam > 0.1
+    assert "lambda = " in capsys.readouterr().out

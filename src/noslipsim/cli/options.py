@@ -13,6 +13,7 @@ _OPTIONS = {
     "position": "--position", "velocity": "--velocity", "spin": "--spin",
     "max_collisions": "-n/--max-collisions", "max_time": "--max-time", "stop_below": "--stop-below",
     "positions": "--position",  # noslipsim ensemble: every orbit starts at --position
+    "n_collisions": "-n/--max-collisions",  # noslipsim lyapunov: -n is the run's length in collisions
 }
 
 
