@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from noslipsim import Circle, Scene, Segment, simulate, simulate_many, tables
-from noslipsim._engine.lattice import cell_of, covering_radius, disks_cover_plane, reaching_copies
+from noslipsim._engine.lattice import cell_of, covering_radius, disks_cover_plane, element_cells, reaching_copies
 from noslipsim._engine.table import kernel_table
 
 
@@ -332,3 +332,47 @@ def test_a_refusal_of_several_disks_is_sound():
             gap = np.minimum(gap, np.hypot(pts[:, None, 0] - C[None, :, 0], pts[:, None, 1] - C[None, :, 1]).min(1) - r)
         assert gap.max() <= 0.0
     assert refused >= 5
+
+
+# ---------------------------------------------------------------------------- starts on a disk reaching out of its cell
+def _gas(R, centre=(0.0, 0.0), skew=0, force=(0.0, 0.0), law="specular"):
+    """The triangular Lorentz gas of spacing 1, its disk anywhere, its basis written ``a1, a2 + skew a1``."""
+    return Scene((Circle(centre, R),), law=law, force=force, lattice=_scaled_lattice(TRIANGULAR, 1.0, skew))
+
+
+def test_element_cells_is_the_copy_the_point_is_on():
+    rng = np.random.default_rng(5)
+    for R, centre, skew in ((0.45, (0.0, 0.0), 0), (0.5, (0.3, -0.2), 2), (0.55, (0.1, 0.4), -1)):
+        scene = _gas(R, centre, skew)
+        A = np.array([scene.lattice["a1"], scene.lattice["a2"]]).T
+        n = rng.integers(-5, 6, size=(300, 2))
+        theta = rng.uniform(0, 2 * np.pi, 300)
+        pts = np.array(centre) + R * np.c_[np.cos(theta), np.sin(theta)] + n @ A.T
+        np.testing.assert_array_equal(element_cells(scene.elements[0], pts, scene.lattice), n)
+    # the parallelogram cell is another one for many of these points (what the callers used before)
+    scene = _gas(0.45)
+    top = np.array([[0.0, 0.45]])
+    assert cell_of(top, scene.lattice).tolist() == [[0, 1]]
+    assert element_cells(scene.elements[0], top, scene.lattice).tolist() == [[0, 0]]
+
+
+@pytest.mark.parametrize("R", [0.45, 0.5])
+@pytest.mark.parametrize("centre, skew, force, law", [((0.0, 0.0), 0, (0.0, 0.0), "specular"),
+                                                      ((0.3, -0.2), 2, (0.0, 0.0), "no-slip"),
+                                                      ((0.0, 0.0), 0, (0.05, -0.2), "no-slip")])
+def test_a_start_on_a_disk_reaching_out_of_its_cell_meets_the_neighbouring_disks(R, centre, skew, force, law):
+    # a boundary start on the disk where it reaches into a neighbouring parallelogram cell ran from that
+    # cell, whose disk copy the kernel then skipped as the one just left: the orbit flew through it
+    scene = _gas(R, centre, skew, force, law)
+    rng = np.random.default_rng(11)
+    theta = rng.uniform(0, 2 * np.pi, 64)
+    normal = np.c_[np.cos(theta), np.sin(theta)]
+    turn = theta + rng.uniform(-1.2, 1.2, 64)
+    q, v = np.array(centre) + R * normal, np.c_[np.cos(turn), np.sin(turn)]
+    w = rng.normal(0, 0.3, 64)
+    on = simulate_many(scene, q, v, w, start_elements=[0] * 64, max_collisions=1, record="log", scheduler="sync")
+    near = simulate_many(scene, q + 1e-9 * normal, v, w, max_collisions=1, record="log", scheduler="sync")
+    np.testing.assert_allclose(on.t.values[:, 0], near.t.values[:, 0], rtol=0, atol=1e-7)
+    for k in ("x", "y", "vx", "vy", "cell_a1", "cell_a2"):
+        np.testing.assert_allclose(on[k].values[:, 0], near[k].values[:, 0], atol=1e-7, err_msg=k)
+    assert (cell_of(q - np.array(centre), scene.lattice) != 0).any(axis=1).sum() > 10  # starts out of the cell

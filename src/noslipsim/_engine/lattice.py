@@ -150,6 +150,35 @@ def cell_of(points, lattice, field="position"):
     return cells.astype(np.int64)
 
 
+def element_cells(element, points, lattice):
+    """Integer indices ``(n1, n2)`` of the copy of ``element`` each point lies on (``points`` ``(N, 2)``).
+
+    The copy translated by ``n1 a1 + n2 a2`` that is nearest to the point:
+    what a point on an element needs (a boundary start, a twin orbit put back
+    in the base cell), where :func:`cell_of`, the parallelogram cell that
+    holds the point, is another cell as soon as the element reaches out of
+    its own (a disk of radius above ``sqrt(3)/4`` on the unit triangular
+    lattice).  Candidates are the translations that bring the point into the
+    element's bounding box (the copies that can hold it, as in
+    :func:`reaching_copies`); each point takes the one at the least distance
+    (a full circle: distance to the circle).
+    """
+    A, B = lattice_matrix(lattice)
+    p = np.asarray(points, float).reshape(-1, 2)
+    x0, y0, x1, y1 = element.bbox()
+    box = np.array([[x0, y0], [x1, y0], [x0, y1], [x1, y1]]) @ B.T
+    lo, hi = box.min(axis=0) - REACH_MARGIN, box.max(axis=0) + REACH_MARGIN
+    frac = p @ B.T
+    first = np.ceil(frac - hi[None, :]).astype(np.int64)      # n with frac - n within [lo, hi]
+    span = np.floor(hi - lo).astype(np.int64) + 2
+    k1, k2 = np.meshgrid(np.arange(span[0]), np.arange(span[1]), indexing="ij")
+    offsets = np.stack([k1.ravel(), k2.ravel()], axis=-1)
+    cand = first[:, None, :] + offsets[None, :, :]            # (N, K, 2)
+    rel = p[:, None, :] - cand.astype(float) @ A.T
+    dist = element.distance(rel) if element.finite else np.abs(element.side_distance(rel))
+    return cand[np.arange(len(p)), np.argmin(dist, axis=1)]
+
+
 def cell_origin(cells, lattice):
     """Centres ``n1 a1 + n2 a2`` of cells (elementwise, like :func:`cell_of`)."""
     A, _ = lattice_matrix(lattice)
