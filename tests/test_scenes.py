@@ -160,6 +160,18 @@ def test_two_segments_closing_on_each_other_are_refused(pair):
         Scene.from_dict({"elements": pair})
 
 
+@pytest.mark.parametrize("vertices", [
+    [(0, -1), (0, 0), (0, 1), (0, 2), (1, 0), (0, 0), (1, 0)],  # found by fuzzing: a vertex list visiting points twice
+    [(0, 0), (1, 1), (1, 0), (0, 0), (-1, -1), (-1, 0)],         # a figure eight: two triangles sharing a vertex
+])
+def test_a_closed_chain_through_a_point_twice_is_refused(vertices):
+    with pytest.raises(ValueError, match=r"^elements\[\d\]: the closed chain of segments through \[0\.0, 0\.0\] is "
+                                         r"not a simple polygon: elements\[\d\], .* all meet there"):
+        Scene.from_dict({"elements": _chain(vertices, side="right")})
+    with pytest.raises(ValueError, match=r"^vertices: the polygon (is not simple|folds back)"):
+        tables.polygon(vertices)
+
+
 def test_simple_chains_of_segments_are_accepted_in_any_order_and_direction():
     L = [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]
     scrambled = Scene.from_dict({"elements": _chain(L, order=[3, 0, 5, 1, 4, 2], flip=(0, 4))})

@@ -518,6 +518,38 @@ def chain_vertices(elements, chain) -> np.ndarray:
     return np.array(out, dtype=float)
 
 
+def _pinched_vertex(elements):
+    """``(point, segment indices)`` of a vertex where four or more segments of closed chains meet, or ``None``.
+
+    Segments joined end to end form closed chains when every vertex of their
+    connected group joins an even number of them; a vertex joining four or more
+    is a chain that passes through one point twice (a figure eight, a polygon
+    whose vertex list repeats a point), which :func:`closed_chains` does not
+    follow and :func:`polygon_defect` refuses.
+    """
+    at = {}
+    for k, e in enumerate(elements):
+        if isinstance(e, Segment):
+            for p in (e.p0, e.p1):
+                at.setdefault(p, []).append(k)
+    group = {k: k for ks in at.values() for k in ks}
+
+    def root(k):
+        while group[k] != k:
+            group[k] = group[group[k]]
+            k = group[k]
+        return k
+
+    for ks in at.values():
+        for k in ks[1:]:
+            group[root(k)] = root(ks[0])
+    odd = {root(ks[0]) for ks in at.values() if len(ks) % 2}
+    for p, ks in at.items():
+        if len(ks) >= 4 and root(ks[0]) not in odd:
+            return p, ks
+    return None
+
+
 def check_closed_chains(elements) -> None:
     """Refuse a closed chain of segments that crosses or touches itself (a bow tie), naming the two segments.
 
@@ -525,6 +557,12 @@ def check_closed_chains(elements) -> None:
     (:func:`noslipsim.elements.polygon_defect`): a polygon that is not simple
     has no inside, and points outside its lobes would count as in the table.
     """
+    pinch = _pinched_vertex(elements)
+    if pinch is not None:
+        p, ks = pinch
+        names = ", ".join(f"elements[{k}]" for k in sorted(ks))
+        raise ValueError(f"elements[{max(ks)}]: the closed chain of segments through {list(p)} is not a simple "
+                         f"polygon: {names} all meet there (the chain passes through the point twice)")
     for chain in closed_chains(elements):
         defect = polygon_defect(chain_vertices(elements, chain))
         if defect is None:
