@@ -437,13 +437,23 @@ def _on_box(a, b, p):
             & (np.minimum(a[..., 1], b[..., 1]) <= p[..., 1]) & (p[..., 1] <= np.maximum(a[..., 1], b[..., 1])))
 
 
-def polygon_defect(vertices) -> tuple[str, int, int] | None:
+def _point_segment_distance(p, a, b):
+    """Distance from points ``p`` to segments ``a b`` (arrays of points, broadcast)."""
+    ab, ap = b - a, p - a
+    u = np.clip(np.sum(ap * ab, axis=-1) / np.sum(ab * ab, axis=-1), 0.0, 1.0)
+    return np.hypot(*np.moveaxis(ap - u[..., None] * ab, -1, 0))
+
+
+def polygon_defect(vertices, gap=0.0) -> tuple[str, int, int] | None:
     """Why the closed polygon through ``vertices`` (``(n, 2)``, ``n >= 2``) is not simple, or ``None``.
 
     Edge ``i`` runs from vertex ``i`` to vertex ``i + 1`` (cyclically).  The
     answer is ``('fold', i, i + 1)`` for an edge ``i + 1`` that turns straight
-    back along edge ``i`` (a spike of zero width; any 2-gon), or ``('meet', i,
-    j)`` for two edges that cross or touch away from the vertex they share.
+    back along edge ``i`` (a spike of zero width; any 2-gon), ``('meet', i,
+    j)`` for two edges that cross or touch away from the vertex they share,
+    or ``('near', i, j)`` for two edges without a common vertex that come
+    within ``gap`` of each other (a spike or a neck thinner than the engine's
+    tolerances, which its orbits cross).
     A polygon that is not simple has no inside: its lobes of opposite
     orientation make the "table side of the nearest edge" rule count points
     outside it as inside (the one check behind :func:`noslipsim.tables.polygon`
@@ -469,7 +479,22 @@ def polygon_defect(vertices) -> tuple[str, int, int] | None:
     if bad.any():
         k = int(np.argmax(bad))
         return "meet", int(i[k]), int(j[k])
+    apart = (j - i > 1) & ~((i == 0) & (j == n - 1)) if n > 3 else np.zeros(len(i), bool)  # no shared vertex
+    if gap > 0.0 and apart.any():
+        near = np.minimum.reduce([_point_segment_distance(p1, p3, p4), _point_segment_distance(p2, p3, p4),
+                                  _point_segment_distance(p3, p1, p2), _point_segment_distance(p4, p1, p2)])
+        close = apart & (near < gap)
+        if close.any():
+            k = int(np.argmax(close))
+            return "near", int(i[k]), int(j[k])
     return None
+
+
+#: Two edges of a polygon without a common vertex must stay this far apart, relative to the polygon's
+#: size (its largest coordinate magnitude): the engine's tolerances are 1e-11 of the size, and a
+#: thinner spike or neck is crossed by its orbits (the smallest feature a scene accepts, as
+#: ``noslipsim.scenes.MIN_FEATURE``).
+MIN_GAP = 1e-9
 
 
 def closed_chains(elements) -> list[list[int]]:
@@ -564,12 +589,15 @@ def check_closed_chains(elements) -> None:
         raise ValueError(f"elements[{max(ks)}]: the closed chain of segments through {list(p)} is not a simple "
                          f"polygon: {names} all meet there (the chain passes through the point twice)")
     for chain in closed_chains(elements):
-        defect = polygon_defect(chain_vertices(elements, chain))
+        v = chain_vertices(elements, chain)
+        defect = polygon_defect(v, MIN_GAP * float(np.abs(v).max()))
         if defect is None:
             continue
         kind, i, j = defect
         a, b = sorted((chain[i], chain[j]))
-        what = "run back along each other" if kind == "fold" else "cross or touch away from a shared end"
+        what = {"fold": "run back along each other", "meet": "cross or touch away from a shared end",
+                "near": f"come within {MIN_GAP:g} times the polygon's size of each other (inside the engine's "
+                        "tolerances, which orbits cross)"}[kind]
         raise ValueError(f"elements[{b}]: the closed chain of segments {sorted(chain)} is not a simple polygon: "
                          f"elements[{a}] ({_ends(elements[a])}) and elements[{b}] ({_ends(elements[b])}) {what}")
 

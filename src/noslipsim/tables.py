@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from ._validate import positive
-from .elements import Arc, Circle, Line, Segment, polygon_defect
+from .elements import MIN_GAP, Arc, Circle, Line, Segment, polygon_defect
 from .scenes import Scene
 
 UNIFORM_DISK = 1.0 / math.sqrt(2.0)
@@ -53,13 +53,16 @@ def channel(width=1.0, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0)):
 
 def _check_simple(v):
     """Refuse a polygon whose edges cross or touch away from their shared vertices, or fold back on themselves."""
-    defect = polygon_defect(v)
+    defect = polygon_defect(v, MIN_GAP * float(np.abs(v).max()))
     if defect is None:
         return
     kind, i, j = defect
     n = len(v)
     if kind == "fold":
         raise ValueError(f"vertices: the polygon folds back on itself at vertex {j} {v[j].tolist()}")
+    if kind == "near":
+        raise ValueError(f"vertices: edges {i} and {j} come within {MIN_GAP:g} times the polygon's size of each "
+                         "other (inside the engine's tolerances, which orbits cross)")
     raise ValueError(f"vertices: the polygon is not simple: edge {i} ({v[i].tolist()} -> {v[(i + 1) % n].tolist()}) "
                      f"meets edge {j} ({v[j].tolist()} -> {v[(j + 1) % n].tolist()})")
 
