@@ -440,7 +440,8 @@ def _on_box(a, b, p):
 def _point_segment_distance(p, a, b):
     """Distance from points ``p`` to segments ``a b`` (arrays of points, broadcast)."""
     ab, ap = b - a, p - a
-    u = np.clip(np.sum(ap * ab, axis=-1) / np.sum(ab * ab, axis=-1), 0.0, 1.0)
+    with np.errstate(divide="ignore", invalid="ignore"):  # an edge whose squared length underflows: its start
+        u = np.nan_to_num(np.clip(np.sum(ap * ab, axis=-1) / np.sum(ab * ab, axis=-1), 0.0, 1.0))
     return np.hypot(*np.moveaxis(ap - u[..., None] * ab, -1, 0))
 
 
