@@ -1,5 +1,6 @@
 """Scene files: round trips, named tables and every validation error (each names its field)."""
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -182,3 +183,17 @@ def test_simple_chains_of_segments_are_accepted_in_any_order_and_direction():
     pts = np.array([[0.5, 1.5], [1.5, 0.5], [1.5, 1.5], [-0.1, 0.5]])
     assert list(scrambled.contains(pts)) == [True, True, False, False]
     Scene.from_dict({"elements": _chain(BOW_TIE)[:3]})  # an open chain is no polygon: left alone
+
+
+@pytest.mark.parametrize("k", [600, -600, -1060])
+def test_the_chain_check_is_exact_at_any_magnitude(k):
+    # found by the magnitude fuzzing: the check's products overflowed (a RuntimeWarning) on a table far out of range
+    L = math.ldexp(1.0, k)
+    square = _chain([(0, 0), (L, 0), (L, L), (0, L)])
+    bow_tie = _chain([(0, 0), (L, L), (L, 0), (0, L)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match=r"^elements: the table's (coordinates reach|size is)"):
+            Scene.from_dict({"elements": square})
+        with pytest.raises(ValueError, match=r"^elements\[2\]: the closed chain of segments"):
+            Scene.from_dict({"elements": bow_tie})

@@ -461,6 +461,9 @@ def polygon_defect(vertices, gap=0.0) -> tuple[str, int, int] | None:
     and the closed chains of segments of a scene).
     """
     v = np.asarray(vertices, dtype=float)
+    # scaled by a power of two (exact, so every sign below is the unscaled one): no product over- or underflows
+    unit = math.ldexp(1.0, math.frexp(float(np.abs(v).max()))[1]) if np.abs(v).max() > 0 else 1.0
+    v, gap = v / unit, gap / unit
     n = len(v)
     a, b = v, np.roll(v, -1, axis=0)
     d0, d1 = b - a, np.roll(b - a, -1, axis=0)
