@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from noslipsim import initial, simulate, simulate_many, tables, theory
+from noslipsim import Circle, Scene, initial, simulate, simulate_many, tables, theory
 from noslipsim.analysis import islands
 from noslipsim.analysis.portraits import birkhoff_coordinates, reduced_portrait
 
@@ -232,6 +232,22 @@ def test_twin_exponents_agree_with_the_tangent_dynamics_orbit_by_orbit(periodic)
     assert np.median(twin[~regular]) == pytest.approx(np.median(tangent[~regular]), rel=0.1)
     if periodic:
         assert 0 < (twin < thr).sum() < len(twin)   # the sample holds both kinds
+
+
+@pytest.mark.parametrize("R", [0.45, 0.5])
+def test_twin_exponents_of_the_finite_horizon_gas(R):
+    """The triangular gas with R > sqrt(3)/4 (finite horizon): its disk reaches out of the parallelogram cell, and
+    the twin's orbit, put back in the base cell by the parallelogram that held it, was 'not on start element 0'."""
+    scene = Scene((Circle((0.0, 0.0), R),), lattice={"a1": [1.0, 0.0], "a2": [0.5, math.sqrt(3.0) / 2.0]})
+    st = islands.interior_starts(scene, islands.uniform_reduced_states(scene, 16, seed=3, elements=[0]))
+    args = (scene, st["positions"], st["velocities"], st["spins"])
+    tangent = islands.finite_time_lyapunov(*args, n_collisions=600)
+    twin = islands.twin_lyapunov(*args, n_collisions=600)
+    assert np.isfinite(twin).all() and np.isfinite(tangent).all()
+    regular = tangent < islands.REGULAR_THRESHOLD
+    assert np.array_equal(twin < islands.REGULAR_THRESHOLD, regular)
+    assert np.abs(twin - tangent)[regular].max(initial=0.0) < 0.01
+    assert np.median(twin[~regular]) == pytest.approx(np.median(tangent[~regular]), rel=0.1)
 
 
 def test_twin_exponents_of_thermostatted_flights():

@@ -13,6 +13,8 @@ Oracles:
 - an orbit on a no-slip elliptic island: the exponent decays towards 0 like log(t)/t.
 """
 import math
+import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -133,3 +135,43 @@ def test_argument_errors():
         lyapunov(square, (0.5, 0.5), (-1.0, -1.0), 0.0, n_collisions=20)
     with pytest.raises(ValueError, match="scene"):
         lyapunov("Sinai", (0.45, 0.1), v)
+
+
+# ---------------------------------------------------------------------------- tables of lines alone (the wedge)
+#: The paper's wedge (Figure 7: half-angle 0.6, gravity 1) and two orbits of its chaotic sea.
+WEDGE_ORBITS = [((0.0, 1.0), (0.5, 0.4), 0.3), ((0.1, 2.0), (-0.3, 0.1), 0.0)]
+
+
+@pytest.mark.parametrize("q, v, w", WEDGE_ORBITS)
+def test_the_wedge_exponent_is_computed_and_agrees_with_twin_orbits(q, v, w):
+    # a table of lines through the origin has no size (Scene.scale = 0): the tangent vector's scaling
+    # overflowed, with a raw RuntimeWarning and an error asking for an option the user does not have
+    from noslipsim.analysis import twin_lyapunov
+
+    wedge = tables.wedge(0.6, law="specular")
+    assert wedge.scale == 0.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        run = lyapunov_run(wedge, q, v, w, n_collisions=4000)
+    # an independent method (twin orbits, no tangent map, no norm) gives the same exponent per collision
+    twin = twin_lyapunov(wedge, [q], [v], [w], n_collisions=4000)[0]
+    assert run["per_collision"] > 0.1
+    assert run["per_collision"] == pytest.approx(twin, rel=0.02)
+
+
+def test_the_no_slip_wedge_exponent_is_computed_too():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        lam = lyapunov(tables.wedge(0.6), *WEDGE_ORBITS[0], n_collisions=1000)
+    assert math.isfinite(lam) and lam >= 0.0
+
+
+def test_an_overflowing_tangent_vector_names_what_to_change(monkeypatch):
+    ly = sys.modules[lyapunov_run.__module__]  # the module (the package exports a function of its name)
+    real = ly.log_block_products
+    monkeypatch.setattr(ly, "log_block_products", lambda *a: real(*a) * np.array([1.0, 1.0, 1e200])[:, None])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match=r"^n_collisions: the tangent vector overflowed .* end the run before "
+                                             r"collision \d+ \(fewer collisions or a shorter time\)"):
+            lyapunov(tables.sinai_torus(0.25, law="specular"), (0.45, 0.1), (0.6, 0.8), n_collisions=400)

@@ -185,6 +185,18 @@ def test_periodic_orbit_on_a_lattice():
     assert abs(X[0, 0] - X[1, 0]) == pytest.approx(0.4, abs=1e-3)  # between two disk copies 1 apart
 
 
+def test_periodic_orbit_through_a_disk_point_outside_the_parallelogram_cell():
+    """Hexagonal gas at R = 0.45 (finite horizon): the vertical 2-periodic orbit hits the disk at (0, +-0.45), a
+    point of the neighbouring parallelogram cell; the search refused it ('lies outside cell 0')."""
+    scene = tables.hex_lorentz_cell(0.45)
+    res = find_periodic_orbit(scene, (0.0, 0.6), (0.001, 1.0), 0.0, period=2)
+    assert res.converged and res.residual <= 1e-12, res.message
+    ds, X = states(scene, res.state, 6)
+    assert period_drift(X, 2) < 1e-9
+    assert np.abs(ds.x.values).max() < 1e-3  # between the disks at (0, 0) and (0, -sqrt 3), vertically
+    np.testing.assert_allclose(np.sort(np.abs(ds.y.values))[[0, -1]], [0.45, math.sqrt(3) - 0.45], rtol=1e-6)
+
+
 # ----------------------------------------------------------------------------- honest failure
 def test_a_start_that_does_not_converge_says_so():
     scene = tables.sinai_torus(0.3, law="specular")

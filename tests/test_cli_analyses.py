@@ -6,6 +6,7 @@ error; ``run --help`` names the experiments; ``noslipsim plot`` of a table
 with an infinite line shows the table.
 """
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -263,3 +264,18 @@ def test_a_portrait_of_lines_only_names_the_portrait_of_the_scene(law, kind, fra
     assert_one_line_error(status, err, "every element is an infinite line", *fragments)
     if law == "no-slip" and not kind:
         assert "Birkhoff" not in err
+
+
+def test_lyapunov_of_the_wedge_from_the_shell(tmp_path, capsys):
+    # the paper's wedge is lines alone (no length scale): the command failed with a raw RuntimeWarning
+    path = tmp_path / "wedge.yaml"
+    wedge = ns.tables.wedge(0.6, law="specular")
+    wedge.to_yaml(path)
+    out = tmp_path / "w.nc"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        assert main(["lyapunov", str(path), "--position", "0", "1", "--velocity", "0.5", "0.4", "--spin", "0.3",
+                     "-n", "1000", "-o", str(out)]) == 0
+    lam = float(xr.open_dataset(out).lyapunov_exponent)
+    assert lam == analysis.lyapunov(wedge, (0.0, 1.0), (0.5, 0.4), 0.3, n_collisions=1000) and lam > 0.1
+    assert "lambda = " in capsys.readouterr().out

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from noslipsim import Circle, Scene, Segment, simulate, simulate_many, tables
-from noslipsim._engine.lattice import cell_of, reaching_copies
+from noslipsim._engine.lattice import cell_of, covering_radius, disks_cover_plane, element_cells, reaching_copies
 from noslipsim._engine.table import kernel_table
 
 
@@ -251,3 +251,128 @@ def test_a_start_beyond_exact_cell_indices_is_refused_by_name():
                       scheduler="sync")
     near = simulate(scene, (2.0 ** 40, 0.3), (1.0, 0.2), 0.0, max_collisions=3)
     assert int(near.n_collisions) == 3 and float(near.x_final) > 2.0 ** 40
+
+
+# ---------------------------------------------------------------------------- lattices whose disks cover the plane
+TRIANGULAR = {"a1": [1.0, 0.0], "a2": [0.5, math.sqrt(3.0) / 2.0]}
+SQUARE = {"a1": [1.0, 0.0], "a2": [0.0, 1.0]}
+
+
+def _scaled_lattice(lattice, d, skew=0):
+    """``lattice`` times ``d``, written in a basis ``a1, a2 + skew a1`` (the same lattice)."""
+    a1, a2 = np.array(lattice["a1"]) * d, np.array(lattice["a2"]) * d
+    return {"a1": a1.tolist(), "a2": (a2 + skew * a1).tolist()}
+
+
+@pytest.mark.parametrize("lattice, edge, hole", [(TRIANGULAR, 1.0 / math.sqrt(3.0), (0.5, math.sqrt(3.0) / 6.0)),
+                                                 (SQUARE, 1.0 / math.sqrt(2.0), (0.5, 0.5))])
+@pytest.mark.parametrize("d, skew", [(1.0, 0), (2.5, 0), (1.0, 3), (0.01, -2)])
+def test_a_disk_covering_the_plane_is_refused_where_the_scene_is_made(lattice, edge, hole, d, skew):
+    # R >= d/sqrt(3) (triangular) or d/sqrt(2) (square): the disks' copies cover the plane, the table is empty;
+    # such a scene used to be accepted until a start was drawn
+    lat = _scaled_lattice(lattice, d, skew)
+    centre = (0.3 * d, -0.1 * d)  # anywhere in the cell
+    below = Scene((Circle(centre, edge * d * (1 - 1e-6)),), lattice=lat)
+    assert below.contains(np.array(centre) + d * np.array(hole))  # the deepest hole, edge * d from the nearest sites
+    for R in (edge * d * (1 + 1e-6), edge * d * 1.5):
+        with pytest.raises(ValueError, match=r"^elements\[0\]\.radius: .* covering radius .* table is empty"):
+            Scene((Circle(centre, R),), lattice=lat)
+        with pytest.raises(ValueError, match=r"^elements\[1\]\.radius: .* covering radius"):
+            Scene.from_dict({"elements": [{"type": "segment", "p0": [0, 0], "p1": [0.1 * d, 0]},
+                                          {"type": "circle", "center": list(centre), "radius": R}], "lattice": lat})
+
+
+def test_the_covering_radius_is_the_farthest_distance_from_the_lattice():
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        a1, a2 = rng.normal(size=2), rng.normal(size=2)
+        if abs(a1[0] * a2[1] - a1[1] * a2[0]) < 0.2:
+            continue
+        lat = {"a1": a1.tolist(), "a2": a2.tolist()}
+        A = np.c_[a1, a2]
+        # brute force: sample the cell densely, distance to the nearest of many lattice sites
+        u = rng.uniform(-0.5, 0.5, (20_000, 2)) @ A.T
+        n = np.arange(-8, 9)
+        sites = np.stack(np.meshgrid(n, n), -1).reshape(-1, 2) @ A.T
+        far = np.hypot(u[:, None, 0] - sites[None, :, 0], u[:, None, 1] - sites[None, :, 1]).min(axis=1).max()
+        assert far <= covering_radius(lat) * (1 + 1e-12)
+        assert far >= covering_radius(lat) * (1 - 2e-2)
+
+
+@pytest.mark.parametrize("r, covered", [(0.49, False), (0.4999, False), (0.5, False), (0.5001, True), (0.6, True)])
+def test_several_disks_are_refused_only_when_certainly_covering(r, covered):
+    # disks at the corners and the centre of the unit square: the points (1/2, 0) are 1/2 from four of them, so
+    # r > 1/2 covers the plane; r = 1/2 leaves nothing but boundary points (not shown covered: accepted)
+    elements = (Circle((0.0, 0.0), r), Circle((0.5, 0.5), r))
+    assert disks_cover_plane([(e.center, e.radius) for e in elements], SQUARE) == covered
+    if covered:
+        with pytest.raises(ValueError, match=r"^elements: the circles elements\[0\], elements\[1\] and .* cover"):
+            Scene(elements, lattice=SQUARE)
+    else:
+        Scene(elements, lattice=SQUARE)
+
+
+def test_a_refusal_of_several_disks_is_sound():
+    # random disk sets: whenever the plane is said to be covered, no point of a dense sample lies outside every disk
+    rng = np.random.default_rng(7)
+    refused = 0
+    for _ in range(40):
+        m = int(rng.integers(2, 4))
+        disks = [(tuple(rng.uniform(-0.5, 0.5, 2)), float(rng.uniform(0.3, 0.6))) for _ in range(m)]
+        if not disks_cover_plane(disks, TRIANGULAR):
+            continue
+        refused += 1
+        A = np.array([TRIANGULAR["a1"], TRIANGULAR["a2"]]).T
+        n = np.arange(-3, 4)
+        shifts = np.stack(np.meshgrid(n, n), -1).reshape(-1, 2) @ A.T
+        pts = rng.uniform(-0.5, 0.5, (20_000, 2)) @ A.T
+        gap = np.full(len(pts), np.inf)
+        for c, r in disks:
+            C = np.asarray(c) + shifts
+            gap = np.minimum(gap, np.hypot(pts[:, None, 0] - C[None, :, 0], pts[:, None, 1] - C[None, :, 1]).min(1) - r)
+        assert gap.max() <= 0.0
+    assert refused >= 5
+
+
+# ---------------------------------------------------------------------------- starts on a disk reaching out of its cell
+def _gas(R, centre=(0.0, 0.0), skew=0, force=(0.0, 0.0), law="specular"):
+    """The triangular Lorentz gas of spacing 1, its disk anywhere, its basis written ``a1, a2 + skew a1``."""
+    return Scene((Circle(centre, R),), law=law, force=force, lattice=_scaled_lattice(TRIANGULAR, 1.0, skew))
+
+
+def test_element_cells_is_the_copy_the_point_is_on():
+    rng = np.random.default_rng(5)
+    for R, centre, skew in ((0.45, (0.0, 0.0), 0), (0.5, (0.3, -0.2), 2), (0.55, (0.1, 0.4), -1)):
+        scene = _gas(R, centre, skew)
+        A = np.array([scene.lattice["a1"], scene.lattice["a2"]]).T
+        n = rng.integers(-5, 6, size=(300, 2))
+        theta = rng.uniform(0, 2 * np.pi, 300)
+        pts = np.array(centre) + R * np.c_[np.cos(theta), np.sin(theta)] + n @ A.T
+        np.testing.assert_array_equal(element_cells(scene.elements[0], pts, scene.lattice), n)
+    # the parallelogram cell is another one for many of these points (what the callers used before)
+    scene = _gas(0.45)
+    top = np.array([[0.0, 0.45]])
+    assert cell_of(top, scene.lattice).tolist() == [[0, 1]]
+    assert element_cells(scene.elements[0], top, scene.lattice).tolist() == [[0, 0]]
+
+
+@pytest.mark.parametrize("R", [0.45, 0.5])
+@pytest.mark.parametrize("centre, skew, force, law", [((0.0, 0.0), 0, (0.0, 0.0), "specular"),
+                                                      ((0.3, -0.2), 2, (0.0, 0.0), "no-slip"),
+                                                      ((0.0, 0.0), 0, (0.05, -0.2), "no-slip")])
+def test_a_start_on_a_disk_reaching_out_of_its_cell_meets_the_neighbouring_disks(R, centre, skew, force, law):
+    # a boundary start on the disk where it reaches into a neighbouring parallelogram cell ran from that
+    # cell, whose disk copy the kernel then skipped as the one just left: the orbit flew through it
+    scene = _gas(R, centre, skew, force, law)
+    rng = np.random.default_rng(11)
+    theta = rng.uniform(0, 2 * np.pi, 64)
+    normal = np.c_[np.cos(theta), np.sin(theta)]
+    turn = theta + rng.uniform(-1.2, 1.2, 64)
+    q, v = np.array(centre) + R * normal, np.c_[np.cos(turn), np.sin(turn)]
+    w = rng.normal(0, 0.3, 64)
+    on = simulate_many(scene, q, v, w, start_elements=[0] * 64, max_collisions=1, record="log", scheduler="sync")
+    near = simulate_many(scene, q + 1e-9 * normal, v, w, max_collisions=1, record="log", scheduler="sync")
+    np.testing.assert_allclose(on.t.values[:, 0], near.t.values[:, 0], rtol=0, atol=1e-7)
+    for k in ("x", "y", "vx", "vy", "cell_a1", "cell_a2"):
+        np.testing.assert_allclose(on[k].values[:, 0], near[k].values[:, 0], atol=1e-7, err_msg=k)
+    assert (cell_of(q - np.array(centre), scene.lattice) != 0).any(axis=1).sum() > 10  # starts out of the cell

@@ -422,3 +422,189 @@ def element_from_dict(d: Mapping[str, Any], where: str = "element") -> Element:
     if not isinstance(kind, str) or kind not in ELEMENT_TYPES:
         raise ValueError(f"{where}.type: unknown element type {kind!r}; expected one of {sorted(ELEMENT_TYPES)}")
     return ELEMENT_TYPES[kind].from_dict(d, where)
+
+
+# ---------------------------------------------------------------------------- simple polygons
+def _orient(a, b, c):
+    """Sign of the turn ``a -> b -> c`` (arrays of points, broadcast): +1 left, -1 right, 0 collinear."""
+    return np.sign((b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1])
+                   - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0]))
+
+
+def _on_box(a, b, p):
+    """``p`` within the bounding box of ``a b`` (for collinear points: on the segment)."""
+    return ((np.minimum(a[..., 0], b[..., 0]) <= p[..., 0]) & (p[..., 0] <= np.maximum(a[..., 0], b[..., 0]))
+            & (np.minimum(a[..., 1], b[..., 1]) <= p[..., 1]) & (p[..., 1] <= np.maximum(a[..., 1], b[..., 1])))
+
+
+def _point_segment_distance(p, a, b):
+    """Distance from points ``p`` to segments ``a b`` (arrays of points, broadcast)."""
+    ab, ap = b - a, p - a
+    with np.errstate(divide="ignore", invalid="ignore"):  # an edge whose squared length underflows: its start
+        u = np.nan_to_num(np.clip(np.sum(ap * ab, axis=-1) / np.sum(ab * ab, axis=-1), 0.0, 1.0))
+    return np.hypot(*np.moveaxis(ap - u[..., None] * ab, -1, 0))
+
+
+def polygon_defect(vertices, gap=0.0) -> tuple[str, int, int] | None:
+    """Why the closed polygon through ``vertices`` (``(n, 2)``, ``n >= 2``) is not simple, or ``None``.
+
+    Edge ``i`` runs from vertex ``i`` to vertex ``i + 1`` (cyclically).  The
+    answer is ``('fold', i, i + 1)`` for an edge ``i + 1`` that turns straight
+    back along edge ``i`` (a spike of zero width; any 2-gon), ``('meet', i,
+    j)`` for two edges that cross or touch away from the vertex they share,
+    or ``('near', i, j)`` for two edges without a common vertex that come
+    within ``gap`` of each other (a spike or a neck thinner than the engine's
+    tolerances, which its orbits cross).
+    A polygon that is not simple has no inside: its lobes of opposite
+    orientation make the "table side of the nearest edge" rule count points
+    outside it as inside (the one check behind :func:`noslipsim.tables.polygon`
+    and the closed chains of segments of a scene).
+    """
+    v = np.asarray(vertices, dtype=float)
+    # scaled by a power of two (exact, so every sign below is the unscaled one): no product over- or underflows
+    unit = math.ldexp(1.0, math.frexp(float(np.abs(v).max()))[1]) if np.abs(v).max() > 0 else 1.0
+    v, gap = v / unit, gap / unit
+    n = len(v)
+    a, b = v, np.roll(v, -1, axis=0)
+    d0, d1 = b - a, np.roll(b - a, -1, axis=0)
+    back = (d0[:, 0] * d1[:, 1] - d0[:, 1] * d1[:, 0] == 0) & (np.sum(d0 * d1, axis=1) < 0)
+    if back.any():
+        k = int(np.argmax(back))
+        return "fold", k, (k + 1) % n
+    i, j = np.triu_indices(n, 2)
+    keep = ~((i == 0) & (j == n - 1))  # the last edge meets the first at vertex 0
+    i, j = i[keep], j[keep]
+    p1, p2, p3, p4 = a[i], b[i], a[j], b[j]
+    o1, o2, o3, o4 = _orient(p1, p2, p3), _orient(p1, p2, p4), _orient(p3, p4, p1), _orient(p3, p4, p2)
+    cross = (o1 * o2 < 0) & (o3 * o4 < 0)
+    touch = (((o1 == 0) & _on_box(p1, p2, p3)) | ((o2 == 0) & _on_box(p1, p2, p4))
+             | ((o3 == 0) & _on_box(p3, p4, p1)) | ((o4 == 0) & _on_box(p3, p4, p2)))
+    bad = cross | touch
+    if bad.any():
+        k = int(np.argmax(bad))
+        return "meet", int(i[k]), int(j[k])
+    apart = (j - i > 1) & ~((i == 0) & (j == n - 1)) if n > 3 else np.zeros(len(i), bool)  # no shared vertex
+    if gap > 0.0 and apart.any():
+        near = np.minimum.reduce([_point_segment_distance(p1, p3, p4), _point_segment_distance(p2, p3, p4),
+                                  _point_segment_distance(p3, p1, p2), _point_segment_distance(p4, p1, p2)])
+        close = apart & (near < gap)
+        if close.any():
+            k = int(np.argmax(close))
+            return "near", int(i[k]), int(j[k])
+    return None
+
+
+#: Two edges of a polygon without a common vertex must stay this far apart, relative to the polygon's
+#: size (its largest coordinate magnitude): the engine's tolerances are 1e-11 of the size, and a
+#: thinner spike or neck is crossed by its orbits (the smallest feature a scene accepts, as
+#: ``noslipsim.scenes.MIN_FEATURE``).
+MIN_GAP = 1e-9
+
+
+def closed_chains(elements) -> list[list[int]]:
+    """The closed chains of segments among ``elements``: each a list of element indices in the chain's order.
+
+    Segments are joined where an end of one is exactly an end of another
+    (the vertices of a polygon written as segments, or by
+    :meth:`noslipsim.Scene.to_yaml`); a chain is closed when every vertex on
+    it joins exactly two segments.  Which way each segment runs (and its
+    ``side``) does not matter.  Other pieces (arcs, open chains, vertices
+    where three or more segments meet) are left out.
+    """
+    at = {}
+    for k, e in enumerate(elements):
+        if isinstance(e, Segment):
+            for p in (e.p0, e.p1):
+                at.setdefault(p, []).append(k)
+    seen, chains = set(), []
+    for k, e in enumerate(elements):
+        if not isinstance(e, Segment) or k in seen:
+            continue
+        chain, p, closed = [k], e.p1, False
+        while len(at[p]) == 2:
+            nxt = at[p][0] if at[p][1] == chain[-1] else at[p][1]
+            if nxt == k:
+                closed = True
+                break
+            chain.append(nxt)
+            q = elements[nxt]
+            p = q.p1 if q.p0 == p else q.p0
+        seen.update(chain)
+        if closed:
+            chains.append(chain)
+    return chains
+
+
+def chain_vertices(elements, chain) -> np.ndarray:
+    """Vertices ``(n, 2)`` of a closed chain of segments: vertex ``i`` starts the chain's ``i``-th segment."""
+    first, second = elements[chain[0]], elements[chain[1]]
+    p = first.p0 if first.p0 not in (second.p0, second.p1) else first.p1
+    out = []
+    for k in chain:
+        e = elements[k]
+        out.append(p)
+        p = e.p1 if e.p0 == p else e.p0
+    return np.array(out, dtype=float)
+
+
+def _pinched_vertex(elements):
+    """``(point, segment indices)`` of a vertex where four or more segments of closed chains meet, or ``None``.
+
+    Segments joined end to end form closed chains when every vertex of their
+    connected group joins an even number of them; a vertex joining four or more
+    is a chain that passes through one point twice (a figure eight, a polygon
+    whose vertex list repeats a point), which :func:`closed_chains` does not
+    follow and :func:`polygon_defect` refuses.
+    """
+    at = {}
+    for k, e in enumerate(elements):
+        if isinstance(e, Segment):
+            for p in (e.p0, e.p1):
+                at.setdefault(p, []).append(k)
+    group = {k: k for ks in at.values() for k in ks}
+
+    def root(k):
+        while group[k] != k:
+            group[k] = group[group[k]]
+            k = group[k]
+        return k
+
+    for ks in at.values():
+        for k in ks[1:]:
+            group[root(k)] = root(ks[0])
+    odd = {root(ks[0]) for ks in at.values() if len(ks) % 2}
+    for p, ks in at.items():
+        if len(ks) >= 4 and root(ks[0]) not in odd:
+            return p, ks
+    return None
+
+
+def check_closed_chains(elements) -> None:
+    """Refuse a closed chain of segments that crosses or touches itself (a bow tie), naming the two segments.
+
+    The same check as :func:`noslipsim.tables.polygon` makes of its vertices
+    (:func:`noslipsim.elements.polygon_defect`): a polygon that is not simple
+    has no inside, and points outside its lobes would count as in the table.
+    """
+    pinch = _pinched_vertex(elements)
+    if pinch is not None:
+        p, ks = pinch
+        names = ", ".join(f"elements[{k}]" for k in sorted(ks))
+        raise ValueError(f"elements[{max(ks)}]: the closed chain of segments through {list(p)} is not a simple "
+                         f"polygon: {names} all meet there (the chain passes through the point twice)")
+    for chain in closed_chains(elements):
+        v = chain_vertices(elements, chain)
+        defect = polygon_defect(v, MIN_GAP * float(np.abs(v).max()))
+        if defect is None:
+            continue
+        kind, i, j = defect
+        a, b = sorted((chain[i], chain[j]))
+        what = {"fold": "run back along each other", "meet": "cross or touch away from a shared end",
+                "near": f"come within {MIN_GAP:g} times the polygon's size of each other (inside the engine's "
+                        "tolerances, which orbits cross)"}[kind]
+        raise ValueError(f"elements[{b}]: the closed chain of segments {sorted(chain)} is not a simple polygon: "
+                         f"elements[{a}] ({_ends(elements[a])}) and elements[{b}] ({_ends(elements[b])}) {what}")
+
+
+def _ends(segment):
+    return f"{list(segment.p0)} -> {list(segment.p1)}"

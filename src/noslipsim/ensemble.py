@@ -201,7 +201,9 @@ def simulate_many(scene: Scene, positions: ArrayLike, velocities: ArrayLike, spi
         Elements recorded by ``portrait`` (default: all).
     start_elements : array_like (N,) of int, optional
         ``-1`` for interior starts, or the element each orbit starts on
-        (boundary initial conditions, see :mod:`noslipsim.initial`).
+        (boundary initial conditions, see :mod:`noslipsim.initial`); on a
+        lattice, a point of the element's copy in cell 0 (the element as
+        written), wherever the disk reaches.
     chunk_size : int, optional
         Orbits per task (default: about four tasks per core; with ``out``,
         at most :data:`CHUNK_ORBITS` orbits and :data:`CHUNK_BYTES` of records,
@@ -271,7 +273,7 @@ def simulate_many(scene: Scene, positions: ArrayLike, velocities: ArrayLike, spi
     q, v, w, on = check_starts(scene, positions, velocities, spins, start_elements)
     _check_level(q, level, stop_below)
     n = len(q)
-    cells, origins, starts, levels, ceilings = _kernel_inputs(form, q, v, w, level)
+    cells, origins, starts, levels, ceilings = _kernel_inputs(form, q, v, w, level, on)
     table, tail = run["table"], run["tail"]
     if scheduler == "numba" or n == 0:
         rec, final = _run_threads(table, starts, on, levels, ceilings, tail, num_workers or os.cpu_count() or 1)
@@ -294,11 +296,12 @@ def _check_level(q, level, stop_below, first=0):
         raise ValueError(f"stop_below: orbit {first + int(np.argmax(q[:, 1] <= level))} starts at or below {level}")
 
 
-def _kernel_inputs(form, q, v, w, level):
+def _kernel_inputs(form, q, v, w, level, on):
     """Cells, origins, kernel starts ``(x, y, vx, vy, w)`` relative to the canonical cells, levels and ceilings.
 
-    ``ceilings``: a bounded lattice's top (``Scene.top``) relative to each start cell (``inf`` for none)."""
-    cells, origins, rel = form.kernel_starts(q)
+    ``on``: the start elements (a boundary start's cell is its element's).  ``ceilings``: a bounded
+    lattice's top (``Scene.top``) relative to each start cell (``inf`` for none)."""
+    cells, origins, rel = form.kernel_starts(q, on)
     starts = np.ascontiguousarray(np.c_[rel, v, w])
     levels = np.full(len(q), form.user_level(level)) - origins[:, 1]
     top = form.scene.top
@@ -350,7 +353,7 @@ def _simulate_to_folder(run, positions, velocities, spins, start_elements, out, 
             except ValueError as err:
                 raise ValueError(f"orbits {i}-{j - 1}: {err}") from None
             _check_level(q, run["level"], run["limits"]["stop_below"], first=i)
-            cells, origins, starts, levels, ceilings = _kernel_inputs(run["form"], q, v, w, run["level"])
+            cells, origins, starts, levels, ceilings = _kernel_inputs(run["form"], q, v, w, run["level"], on)
             inputs = digest(starts, on, levels) if run["form"].scene.top is None else digest(starts, on, levels,
                                                                                             ceilings)
             if not is_done(folder, i, j, inputs):

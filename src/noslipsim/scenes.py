@@ -28,12 +28,12 @@ import numpy as np
 import yaml
 from numpy.typing import ArrayLike
 
-from ._engine.lattice import cell_of, lattice_matrix
+from ._engine.lattice import cell_of, covering_radius, disks_cover_plane, lattice_matrix
 from ._unit import unit_pair
 from ._validate import finite_vector, no_unknown_keys, nonnegative, read_yaml, required
 from .core import layout
 from .core.laws import noslip_coefficients
-from .elements import Arc, Circle, Line, Segment, element_from_dict, law_name
+from .elements import Arc, Circle, Line, Segment, check_closed_chains, element_from_dict, law_name
 
 LAWS = {"no-slip": layout.NOSLIP, "noslip": layout.NOSLIP, "specular": layout.SPECULAR}
 _SCENE_KEYS = {"law", "gamma", "force", "thermostat", "magnetic", "elements", "lattice", "top"}
@@ -211,6 +211,27 @@ def _flown(kernel, arrays, *field):
     return tuple(out[:, k].reshape(arrays[0].shape) for k in range(4))
 
 
+def _check_not_covered(elements, lattice):
+    """Refuse a lattice whose disk scatterers cover the plane: its table would have no point at all.
+
+    Only the full circles with ``side: outside`` are counted (every other element can only
+    take more away); the test is :func:`noslipsim._engine.lattice.disks_cover_plane`, exact
+    for one disk and never refusing a table that has points for several.
+    """
+    which = [i for i, e in enumerate(elements) if isinstance(e, Circle) and e.side == "outside"]
+    if not which or not disks_cover_plane([(elements[i].center, elements[i].radius) for i in which], lattice):
+        return
+    if len(which) == 1:
+        i = which[0]
+        raise ValueError(f"elements[{i}].radius: {elements[i].radius} is at least the lattice's covering "
+                         f"radius {covering_radius(lattice)} (the largest distance from a point to its nearest "
+                         "lattice site), so the disk's copies cover the plane and the table is empty; use a smaller "
+                         "radius or longer lattice vectors")
+    names = ", ".join(f"elements[{i}]" for i in which)
+    raise ValueError(f"elements: the circles {names} and their lattice copies cover "
+                     "the plane, so the table is empty; use smaller radii or longer lattice vectors")
+
+
 @dataclass(frozen=True)
 class Scene:
     """A billiard table with its physics.
@@ -272,6 +293,7 @@ class Scene:
         object.__setattr__(self, "elements", _element_tuple(self.elements))
         if not self.elements:
             raise ValueError("elements: a scene needs at least one element")
+        check_closed_chains(self.elements)
         if self.lattice is not None:
             no_unknown_keys(self.lattice, {"a1", "a2"}, "lattice")
             a1 = finite_vector(required(self.lattice, "a1", "lattice"), "lattice.a1")
@@ -289,6 +311,8 @@ class Scene:
             for i, e in enumerate(self.elements):
                 if isinstance(e, Line):
                     raise ValueError(f"elements[{i}]: infinite lines cannot be repeated on a lattice")
+            if self.top is None:  # a bounded lattice has its table above the top row
+                _check_not_covered(self.elements, self.lattice)
         if self.top is not None:
             self._check_top()
         _check_magnitudes(self)

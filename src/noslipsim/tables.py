@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from ._validate import positive
-from .elements import Arc, Circle, Line, Segment
+from .elements import MIN_GAP, Arc, Circle, Line, Segment, polygon_defect
 from .scenes import Scene
 
 UNIFORM_DISK = 1.0 / math.sqrt(2.0)
@@ -51,42 +51,20 @@ def channel(width=1.0, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0)):
     return _scene([Line((0.0, 0.0), (0.0, 1.0)), Line((0.0, width), (0.0, -1.0))], law, gamma, force)
 
 
-def _orient(a, b, c):
-    """Sign of the turn ``a -> b -> c`` (arrays of points, broadcast): +1 left, -1 right, 0 collinear."""
-    return np.sign((b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1])
-                   - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0]))
-
-
-def _on_box(a, b, p):
-    """``p`` within the bounding box of ``a b`` (for collinear points: on the segment)."""
-    return ((np.minimum(a[..., 0], b[..., 0]) <= p[..., 0]) & (p[..., 0] <= np.maximum(a[..., 0], b[..., 0]))
-            & (np.minimum(a[..., 1], b[..., 1]) <= p[..., 1]) & (p[..., 1] <= np.maximum(a[..., 1], b[..., 1])))
-
-
 def _check_simple(v):
     """Refuse a polygon whose edges cross or touch away from their shared vertices, or fold back on themselves."""
+    defect = polygon_defect(v, MIN_GAP * float(np.abs(v).max()))
+    if defect is None:
+        return
+    kind, i, j = defect
     n = len(v)
-    a, b = v, np.roll(v, -1, axis=0)
-    # an edge that turns straight back along the previous one (a spike of zero width)
-    d0, d1 = b - a, np.roll(b - a, -1, axis=0)
-    back = (d0[:, 0] * d1[:, 1] - d0[:, 1] * d1[:, 0] == 0) & (np.sum(d0 * d1, axis=1) < 0)
-    if back.any():
-        k = int(np.argmax(back))
-        raise ValueError(f"vertices: the polygon folds back on itself at vertex {(k + 1) % n} "
-                         f"{v[(k + 1) % n].tolist()}")
-    i, j = np.triu_indices(n, 2)
-    keep = ~((i == 0) & (j == n - 1))  # the last edge meets the first at vertex 0
-    i, j = i[keep], j[keep]
-    p1, p2, p3, p4 = a[i], b[i], a[j], b[j]
-    o1, o2, o3, o4 = _orient(p1, p2, p3), _orient(p1, p2, p4), _orient(p3, p4, p1), _orient(p3, p4, p2)
-    cross = (o1 * o2 < 0) & (o3 * o4 < 0)
-    touch = (((o1 == 0) & _on_box(p1, p2, p3)) | ((o2 == 0) & _on_box(p1, p2, p4))
-             | ((o3 == 0) & _on_box(p3, p4, p1)) | ((o4 == 0) & _on_box(p3, p4, p2)))
-    bad = cross | touch
-    if bad.any():
-        k = int(np.argmax(bad))
-        raise ValueError(f"vertices: the polygon is not simple: edge {i[k]} ({p1[k].tolist()} -> {p2[k].tolist()}) "
-                         f"meets edge {j[k]} ({p3[k].tolist()} -> {p4[k].tolist()})")
+    if kind == "fold":
+        raise ValueError(f"vertices: the polygon folds back on itself at vertex {j} {v[j].tolist()}")
+    if kind == "near":
+        raise ValueError(f"vertices: edges {i} and {j} come within {MIN_GAP:g} times the polygon's size of each "
+                         "other (inside the engine's tolerances, which orbits cross)")
+    raise ValueError(f"vertices: the polygon is not simple: edge {i} ({v[i].tolist()} -> {v[(i + 1) % n].tolist()}) "
+                     f"meets edge {j} ({v[j].tolist()} -> {v[(j + 1) % n].tolist()})")
 
 
 def polygon(vertices, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.0, 0.0), disks=()):

@@ -60,6 +60,10 @@ class CanonicalForm:
     identity : bool
         Nothing was rewritten: the kernels run the user's scene as it is, and
         results are those of the user's scene bit for bit.
+    moves : ndarray of int (n_elements, 2) or None
+        The canonical cell of each element as the user wrote it: element
+        ``k`` of the user's scene is the copy of canonical element ``k`` in
+        canonical cell ``moves[k]`` (``None``: every one in cell 0).
     """
 
     user: object
@@ -67,11 +71,19 @@ class CanonicalForm:
     shift: np.ndarray
     U: np.ndarray
     identity: bool
+    moves: np.ndarray | None = None
 
     # ------------------------------------------------------------------ starts
-    def kernel_starts(self, q):
+    def kernel_starts(self, q, on=None):
         """Split user positions ``q`` (..., 2) into canonical cells and positions relative to them.
 
+        ``on``: start elements (``-1`` or absent: an interior start).  An
+        interior start's cell is the parallelogram cell that holds it; a
+        boundary start on element ``k`` (the user's cell-0 copy, as
+        :func:`noslipsim.ensemble.check_starts` requires) starts in the cell
+        of that copy, which the kernel deflates (``t = 0`` root), even where
+        the point lies in a neighbouring parallelogram (a disk reaching out
+        of its cell: the kernels walk on from a start outside its cell).
         Returns ``(cells, origins, rel)``: canonical cell indices, their centres
         (canonical coordinates) and ``rel = q - shift - origins``.
         """
@@ -81,6 +93,10 @@ class CanonicalForm:
             return np.zeros(shape, dtype=np.int64), np.zeros(shape), q
         qc = q - self.shift if not self.identity else q
         cells = cell_of(qc, self.scene.lattice)
+        if on is not None:
+            on = np.asarray(on, dtype=np.int64)
+            boundary = on >= 0
+            cells[boundary] = 0 if self.moves is None else self.moves[on[boundary]]
         origins = cell_origin(cells, self.scene.lattice)
         return cells, origins, qc - origins
 
@@ -206,4 +222,4 @@ def canonical_form(scene):
     lattice = scene.lattice if same_basis else {"a1": Ac[:, 0].tolist(), "a2": Ac[:, 1].tolist()}
     canon = scene.replace(elements=elements, lattice=lattice,
                           top=None if scene.top is None else scene.top - float(shift[1]))
-    return CanonicalForm(scene, canon, shift, U, False)
+    return CanonicalForm(scene, canon, shift, U, False, moves)

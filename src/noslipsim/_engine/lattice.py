@@ -150,6 +150,35 @@ def cell_of(points, lattice, field="position"):
     return cells.astype(np.int64)
 
 
+def element_cells(element, points, lattice):
+    """Integer indices ``(n1, n2)`` of the copy of ``element`` each point lies on (``points`` ``(N, 2)``).
+
+    The copy translated by ``n1 a1 + n2 a2`` that is nearest to the point:
+    what a point on an element needs (a boundary start, a twin orbit put back
+    in the base cell), where :func:`cell_of`, the parallelogram cell that
+    holds the point, is another cell as soon as the element reaches out of
+    its own (a disk of radius above ``sqrt(3)/4`` on the unit triangular
+    lattice).  Candidates are the translations that bring the point into the
+    element's bounding box (the copies that can hold it, as in
+    :func:`reaching_copies`); each point takes the one at the least distance
+    (a full circle: distance to the circle).
+    """
+    A, B = lattice_matrix(lattice)
+    p = np.asarray(points, float).reshape(-1, 2)
+    x0, y0, x1, y1 = element.bbox()
+    box = np.array([[x0, y0], [x1, y0], [x0, y1], [x1, y1]]) @ B.T
+    lo, hi = box.min(axis=0) - REACH_MARGIN, box.max(axis=0) + REACH_MARGIN
+    frac = p @ B.T
+    first = np.ceil(frac - hi[None, :]).astype(np.int64)      # n with frac - n within [lo, hi]
+    span = np.floor(hi - lo).astype(np.int64) + 2
+    k1, k2 = np.meshgrid(np.arange(span[0]), np.arange(span[1]), indexing="ij")
+    offsets = np.stack([k1.ravel(), k2.ravel()], axis=-1)
+    cand = first[:, None, :] + offsets[None, :, :]            # (N, K, 2)
+    rel = p[:, None, :] - cand.astype(float) @ A.T
+    dist = element.distance(rel) if element.finite else np.abs(element.side_distance(rel))
+    return cand[np.arange(len(p)), np.argmin(dist, axis=1)]
+
+
 def cell_origin(cells, lattice):
     """Centres ``n1 a1 + n2 a2`` of cells (elementwise, like :func:`cell_of`)."""
     A, _ = lattice_matrix(lattice)
@@ -164,3 +193,78 @@ def unit_cell_polygon(lattice):
     corners = np.array([[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]]) @ A.T
     area = A[0, 0] * A[1, 1] - A[1, 0] * A[0, 1]
     return corners if area > 0 else corners[::-1]
+
+
+def reduced_matrix(lattice):
+    """Lattice vectors of the Lagrange–Gauss reduced basis as columns, ``b1 . b2 >= 0`` (the cell's acute corner)."""
+    from .canonical import reduce_basis
+
+    A, _ = lattice_matrix(lattice)
+    return A @ reduce_basis(A).astype(float)
+
+
+def covering_radius(lattice) -> float:
+    """The lattice's covering radius: the largest distance from a point of the plane to its nearest lattice site.
+
+    In a reduced basis ``b1, b2`` with ``b1 . b2 >= 0`` the triangle ``0, b1,
+    b2`` has no obtuse angle, so it and its point reflection tile the plane as
+    the lattice's Delaunay triangles; the farthest points from every site are
+    their circumcentres, at the circumradius ``|b1| |b2| |b1 - b2| / (2 |b1 x b2|)``
+    (``d / sqrt(3)`` on the triangular lattice of spacing ``d``, ``d / sqrt(2)``
+    on the square one).
+    """
+    R = reduced_matrix(lattice)
+    b1, b2 = R[:, 0], R[:, 1]
+    cross = abs(float(b1[0] * b2[1] - b1[1] * b2[0]))
+    return float(np.hypot(*b1) * np.hypot(*b2) * np.hypot(*(b1 - b2)) / (2.0 * cross))
+
+
+#: :func:`disks_cover_plane` gives up (answers "not shown covered") past this many subdivision
+#: levels, or this many pieces of the cell at one level: the disks then leave at most slivers
+#: too thin for the engine, or nothing, and a start drawn there says so.
+COVER_MAX_LEVELS = 24
+COVER_MAX_PIECES = 50_000
+
+
+def disks_cover_plane(disks, lattice) -> bool:
+    """Whether the disks ``(center, radius)`` and their lattice copies certainly cover the whole plane.
+
+    One disk: exactly, ``r >= covering_radius``.  Several: the reduced cell
+    is cut into ``2^k x 2^k`` small parallelograms, each of centre ``c`` and
+    half-diagonal ``h``; a piece lies inside one disk copy when ``|c - C| + h
+    <= r``, and a centre outside every copy is a point of the table (the
+    answer is ``False``); the other pieces are cut in four, up to
+    :data:`COVER_MAX_LEVELS` levels.  ``True`` only when every piece of the
+    cell was shown inside a disk, so a table with points is never refused;
+    an undecided case (the disks leave at most slivers) answers ``False``.
+    """
+    radii = np.array([r for _, r in disks], float)
+    if len(radii) == 1:
+        return bool(radii[0] >= covering_radius(lattice))
+    R = reduced_matrix(lattice)
+    Rinv = np.linalg.inv(R)
+    centres = np.array([c for c, _ in disks], float).reshape(-1, 2)
+    centres = centres - np.rint(centres @ Rinv.T) @ R.T  # a lattice vector is a symmetry: into the reduced cell
+    span = math.ceil(1.0 + float(np.linalg.norm(Rinv, 2)) * float(radii.max()))
+    n = np.arange(-span, span + 1, dtype=float)
+    shifts = (np.stack(np.meshgrid(n, n, indexing="ij"), axis=-1).reshape(-1, 2)) @ R.T
+    C = (centres[:, None, :] + shifts[None, :, :]).reshape(-1, 2)
+    r = np.repeat(radii, len(shifts))
+    diag = 0.5 * max(float(np.hypot(*(R[:, 0] + R[:, 1]))), float(np.hypot(*(R[:, 0] - R[:, 1]))))
+    pieces = np.array([[0.0, 0.0]])  # centres of the pieces in lattice coordinates (the cell is [-1/2, 1/2]^2)
+    size = 1.0
+    for _ in range(COVER_MAX_LEVELS):
+        if len(pieces) > COVER_MAX_PIECES:
+            return False
+        pts = pieces @ R.T
+        dist = np.hypot(pts[:, None, 0] - C[None, :, 0], pts[:, None, 1] - C[None, :, 1])
+        if not (dist <= r).any(axis=1).all():
+            return False  # a point in no disk: the table is not empty
+        inside = (dist + diag * size <= r).any(axis=1)
+        pieces = pieces[~inside]
+        if len(pieces) == 0:
+            return True
+        size *= 0.5
+        q = 0.5 * size
+        pieces = (pieces[:, None, :] + np.array([[-q, -q], [q, -q], [-q, q], [q, q]])[None]).reshape(-1, 2)
+    return False

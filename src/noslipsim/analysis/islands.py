@@ -59,7 +59,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from .._engine.lattice import cell_of, cell_origin
+from .._engine.lattice import cell_of, cell_origin, element_cells
 from .._metadata import annotate
 from .._validate import count, positive
 from ..elements import Arc, Circle, Segment
@@ -297,6 +297,23 @@ def _last_states(ds, rows):
     return state, take("element"), n
 
 
+def _cells_on(scene, points, elements):
+    """The lattice cell of the copy of ``elements[i]`` that ``points[i]`` lies on (a point of no element: its own cell).
+
+    Not the parallelogram cell that holds the point: a disk reaching out of its
+    cell (the triangular gas of finite horizon, ``R > sqrt(3)/4``) has points in
+    the neighbouring parallelograms, and a boundary start must lie on the base copy.
+    """
+    cells = np.zeros((len(points), 2), dtype=np.int64)
+    known = np.isfinite(points).all(axis=1)
+    on = known & np.isfinite(elements) & (elements >= 0)
+    cells[known & ~on] = cell_of(points[known & ~on], scene.lattice)
+    for e in np.unique(elements[on]).astype(np.int64):
+        sel = on & (elements == e)
+        cells[sel] = element_cells(scene.elements[e], points[sel], scene.lattice)
+    return cells
+
+
 def twin_lyapunov(scene: Scene, positions, velocities, spins=None, *, n_collisions=2000, block=TWIN_BLOCK,
                   separation=TWIN_SEPARATION, seed=0, num_workers=None):
     r"""Finite-time largest Lyapunov exponent per collision from a twin orbit, for any flight type.
@@ -385,7 +402,7 @@ def twin_lyapunov(scene: Scene, positions, velocities, spins=None, *, n_collisio
         a, ea, na = _last_states(ds, np.arange(m))
         b, eb, nb = _last_states(ds, np.arange(m, 2 * m))
         if scene.lattice is not None:  # back to the base cell (boundary starts lie there), the same shift for both
-            origin = cell_origin(cell_of(a[:, :2], scene.lattice), scene.lattice)
+            origin = cell_origin(_cells_on(scene, a[:, :2], ea), scene.lattice)
             a[:, :2] -= origin
             b[:, :2] -= origin
         full = (na == block) & (nb == block)

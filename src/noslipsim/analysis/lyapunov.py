@@ -17,8 +17,9 @@ first and last collision used.  The map's exponent per collision is
 ``lambda`` times the mean free time ``(t_N - t_0)/N`` (Abramov's formula); the
 section coordinates carry the energy shell, so the flow's zero exponents along
 the flight and the energy do not enter, and the tangent vector grows at the
-largest rate.  Norm: the reduced coordinates scaled by the table's size and the
-speed (any norm gives the same limit).
+largest rate.  Norm: the reduced coordinates scaled by the table's size (for a
+table of lines through one point, a wedge: the orbit's extent) and the speed
+(any norm gives the same limit).
 
 References: G. Benettin, L. Galgani, A. Giorgilli, J.-M. Strelcyn, Meccanica 15
 (1980) 9; C. Dellago, H. A. Posch, W. G. Hoover, Phys. Rev. E 53 (1996) 1485.
@@ -55,6 +56,39 @@ def _collision_budget(scene, q, v, w, n_collisions, max_time):
     empty = np.zeros((0, layout.N_LOG))
     n, *_ = run_one(scene, q, v, w, MAX_COLLISIONS + 1, max_time, -math.inf, layout.RECORD_NONE, empty)
     return n
+
+
+def _norm_scales(scene, log, v, w):
+    """The scales ``(L, V, V)`` of the reduced coordinates ``(s, w, v_t)`` in the norm of the renormalisation.
+
+    ``L`` is the table's size; a table of lines through the origin alone (a
+    wedge) has none (``Scene.scale`` is 0), and there the orbit's own extent,
+    the largest coordinate of its collision points, serves (without a length,
+    the arclength's scale overflowed the tangent vector).  ``V`` is the speed
+    scale, positive even for a start at rest under a force.
+    """
+    length = scene.scale or float(np.abs(log[:, [layout.LOG_X, layout.LOG_Y]]).max())
+    speed = math.sqrt(float(v @ v) + w * w + math.hypot(*scene.force) * length)
+    return np.array([length, speed, speed])
+
+
+def _block_growth(blocks, D, block):
+    """``log |B_j u_j|`` of each block; ``u`` is renormalised after each, in the norm scaled by ``D``."""
+    u = np.ones(3) / math.sqrt(3.0)
+    growth = np.empty(len(blocks))
+    with np.errstate(all="ignore"):  # an overflow is reported below, with what to change
+        scaled = blocks * (1.0 / D)[None, :, None] * D[None, None, :]
+        for j, B in enumerate(scaled):
+            u = B @ u
+            norm = math.sqrt(float(u @ u))
+            if not (norm > 0.0 and math.isfinite(norm)):
+                raise ValueError(f"n_collisions: the tangent vector overflowed or vanished between collisions "
+                                 f"{j * block} and {(j + 1) * block} (a near-grazing collision stretches it beyond "
+                                 f"the float range); end the run before collision {j * block} (fewer collisions "
+                                 "or a shorter time)")
+            growth[j] = math.log(norm)
+            u /= norm
+    return growth
 
 
 def lyapunov_run(scene: Scene, position, velocity, spin=0.0, *, max_time=1e4, n_collisions=None, block=BLOCK):
@@ -100,19 +134,7 @@ def lyapunov_run(scene: Scene, position, velocity, spin=0.0, *, max_time=1e4, n_
     n_used = len(blocks) * block
     times = log[block:n_used + 1:block, layout.LOG_T] - log[0, layout.LOG_T]
 
-    # renormalise in coordinates scaled by the table's size and the speed
-    speed = math.sqrt(float(v @ v) + w * w + math.hypot(*scene.force) * scene.scale)  # > 0 even at rest
-    D = np.array([max(scene.scale, 1e-300), speed, speed])
-    scaled = blocks * (1.0 / D)[None, :, None] * D[None, None, :]
-    u = np.ones(3) / math.sqrt(3.0)
-    growth = np.empty(len(scaled))
-    for j, B in enumerate(scaled):
-        u = B @ u
-        norm = math.sqrt(float(u @ u))
-        if not (norm > 0.0 and math.isfinite(norm)):
-            raise ValueError(f"the tangent vector overflowed or vanished in block {j}; use a smaller block")
-        growth[j] = math.log(norm)
-        u /= norm
+    growth = _block_growth(blocks, _norm_scales(scene, log, v, w), block)
     total = np.cumsum(growth)
     elapsed = float(times[-1])
     exponent = float(total[-1] / elapsed)

@@ -32,7 +32,7 @@ from .._engine.table import kernel_table
 from ..core import layout
 from ..core.batch import F_NREC, F_STOP
 from ..scenes import Scene
-from ..simulate import check_limits, check_start, run_one, start_cell
+from ..simulate import check_limits, check_start, run_one
 
 
 def require_free_fall(scene: Scene, what):
@@ -145,12 +145,11 @@ def boundary_log(scene: Scene, element, q, v, w, n):
     """Collision log of the orbit leaving boundary point ``q`` of ``element`` (cell 0) with ``(v, w)``.
 
     The start is treated as just reflected by ``element`` (its ``t = 0`` root
-    is deflated by the kernel).  Returns ``(log, stop_reason)``.
+    is deflated by the kernel).  On a lattice ``q`` lies on the element as
+    written (its copy of cell 0), which the kernel runs from cell 0 even where
+    the point lies in a neighbouring parallelogram (a disk reaching out of its
+    cell).  Returns ``(log, stop_reason)``.
     """
-    cell, _, _ = start_cell(scene, np.asarray(q, float))
-    if scene.lattice is not None and cell.any():
-        raise ValueError(f"position: the boundary point {list(q)} of element {element} lies outside cell 0 "
-                         "of the lattice; choose an element copy inside cell 0")
     rec = np.zeros((1, n, layout.N_LOG))
     table = kernel_table(scene)
     final = run_orbits(table, [[float(q[0]), float(q[1]), float(v[0]), float(v[1]), float(w)]],
