@@ -45,6 +45,17 @@ def test_the_measured_boundary_meets_the_closed_form_as_theta_goes_to_zero():
     kinds = ds.linear_kind.values
     np.testing.assert_array_equal(changes, kinds[..., 0] != kinds[..., 1])
     assert ds.attrs["n_changing"] == changes.sum() and ds.attrs["n_columns"] == changes.size
+    # both launch angles lie below the parabolic line theta = pi/2 - phi: the same count there
+    np.testing.assert_array_equal(ds.elliptic_hyperbolic_below.values, ds.elliptic_hyperbolic.values)
+    assert ds.attrs["n_above"] == 0
+
+
+def test_above_the_parabolic_line_the_orbits_are_hyperbolic():
+    """Launched above the tangent at q1 (theta > pi/2 - phi) the orbits we classify are hyperbolic, elliptic below."""
+    ds = launch_angle_classes([0.9], [0.8], [0.3, 0.6, 0.9, 1.2], GAMMA, gravity=1.0)
+    assert list(ds.linear_kind.values[0, 0]) == ["elliptic", "elliptic", "hyperbolic", "hyperbolic"]
+    assert (ds.attrs["n_above"], ds.attrs["n_above_hyperbolic"]) == (2, 2)
+    assert ds.attrs["n_changing"] == 1 and ds.attrs["n_changing_below"] == 0 and ds.attrs["n_columns_below"] == 1
 
 
 def test_launch_angle_classes_refuses_bad_axes():

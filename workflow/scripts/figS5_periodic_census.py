@@ -32,7 +32,10 @@ left.legend(fontsize=7, loc="upper right")
 m = counts.minimal_period.values
 right.bar(m, counts.family, color="#56B4E9", label="on a family (eigenvalue 1)")
 right.bar(m, counts.isolated, bottom=counts.family, color=plot.law_color("no-slip"), label="isolated")
-right.set(xlabel="minimal period", ylabel="distinct orbits", xticks=m,
+for x, n in zip(m, counts.distinct.values):   # the small counts would not show as bars
+    if n:
+        right.text(x, n, f"{int(n)}", ha="center", va="bottom", fontsize=6)
+right.set(xlabel="minimal period", ylabel="distinct orbits", xticks=m, ylim=(0, 1.12 * int(counts.distinct.max()) + 1),
           title=f"{int(counts.isolated.sum())} isolated of {int(counts.distinct.sum())} distinct")
 right.legend(fontsize=7, loc="upper right")
 plot.save_figure(fig, snakemake.output.pdf)

@@ -21,13 +21,37 @@ grid = f"{launch.sizes['radius']} R × {launch.sizes['phi']} φ × {launch.sizes
 numbers["launch_columns"] = dict(description=f"two disks, force (0, -g): (R, φ) columns of the {grid} grid with an "
                                  "orbit at two launch angles at least", value=n_col, format="d")
 numbers["launch_share_changing"] = dict(
-    description="share of those columns whose linear class changes with the launch angle θ alone",
+    description="share of those columns whose linear class changes with the launch angle θ alone (θ over (0, π/2), "
+                "across the parabolic line θ = π/2 - φ)",
     value=n_changing / n_col, format=".1%", paper="stability depends on the launch angle",
     note=f"{n_changing} of {n_col} columns")
 numbers["launch_share_elliptic_hyperbolic"] = dict(
     description="share of the columns that are elliptic at some θ and hyperbolic at another",
     value=n_both / n_col, format=".1%",
     note=f"{n_both} of {n_col} columns")
+below, n_below = int(launch.attrs["n_changing_below"]), int(launch.attrs["n_columns_below"])
+numbers["launch_share_changing_below_line"] = dict(
+    description=f"the same away from the parabolic line: launch angles θ < π/2 - φ - {launch.attrs['margin']:g} "
+                "only, share of columns elliptic at some θ and hyperbolic at another", value=below / n_below,
+    format=".1%", paper="stability depends on the launch angle", note=f"{below} of {n_below} columns")
+# the columns below the line, split by the force-free threshold R*(phi)
+line = launch.theta < np.pi / 2 - launch.phi - launch.attrs["margin"]
+kinds = launch.linear_kind.where(line, "").transpose("radius", "phi", "theta").values.astype(str)
+counted = (kinds != "").sum(axis=-1) >= 2
+steady_elliptic = (kinds == "elliptic").any(axis=-1) & ~(kinds == "hyperbolic").any(axis=-1)
+small = launch.radius.values[:, None] < launch.radius_threshold.values[None, :]
+changing = launch.elliptic_hyperbolic_below.values.astype(bool)
+for key, side, mask, what in (("below", "R < R*(φ)", counted & small, changing),
+                              ("above", "R > R*(φ)", counted & ~small, steady_elliptic)):
+    verb = "change class along θ" if key == "below" else "are elliptic at every θ"
+    numbers[f"launch_share_{key}_threshold"] = dict(
+        description=f"below the parabolic line, columns with {side} (force-free threshold) that {verb}",
+        value=int((mask & what).sum()) / int(mask.sum()), format=".1%",
+        note=f"{int((mask & what).sum())} of {int(mask.sum())} columns")
+n_above, n_above_hyp = int(launch.attrs["n_above"]), int(launch.attrs["n_above_hyperbolic"])
+numbers["launch_share_hyperbolic_above_line"] = dict(
+    description=f"share of the orbits launched above the line, θ > π/2 - φ + {launch.attrs['margin']:g}, "
+                "that are hyperbolic", value=n_above_hyp / n_above, format=".1%", note=f"{n_above_hyp} of {n_above}")
 numbers["launch_points_without_orbit"] = dict(
     description="grid points where the 2-periodic orbit does not exist (its flight meets the table elsewhere)",
     value=n_missing, format="d", note=f"of {launch.linear_kind.size} points")

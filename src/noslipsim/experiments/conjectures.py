@@ -56,6 +56,23 @@ def _column_changes(kinds):
     return present.sum(axis=0), (present[0] & present[1])
 
 
+def _sides(kinds, phis, thetas, margin):
+    """Changes below the parabolic line ``theta < pi/2 - phi - margin``, and the classes above it.
+
+    Under gravity the launch parallel to the tangent at ``q1``
+    (``phi + theta = pi/2``) is parabolic for every ``R``, so a column that
+    crosses it may change class there alone; below it a change is the launch
+    angle's doing away from that line.
+    """
+    below = thetas[None, :] < math.pi / 2 - phis[:, None] - margin     # (phi, theta)
+    above = thetas[None, :] > math.pi / 2 - phis[:, None] + margin
+    kb = np.where(below[None], kinds, "")
+    counted = (kb != "").sum(axis=-1) >= 2
+    both = (kb == "elliptic").any(axis=-1) & (kb == "hyperbolic").any(axis=-1) & counted
+    ka = kinds[np.broadcast_to(above[None], kinds.shape)]
+    return both, counted, int((ka != "").sum()), int((ka == "hyperbolic").sum())
+
+
 def _boundaries(eigen_sum, radii, phis, thetas, threshold, margin):
     """``R_e(phi)`` and ``R^* - R_e`` at each ``theta`` (:func:`noslipsim.analysis.elliptic_boundary`)."""
     rows = []
@@ -107,11 +124,15 @@ def launch_angle_classes(radii, phis, thetas, gamma=1 / math.sqrt(2), *, gravity
         ``linear_kind`` and ``eigen_sum`` on ``(radius, phi, theta)`` (``''``
         and NaN where no orbit exists); on ``(radius, phi)``: ``n_classes``
         (distinct classes along ``theta``), ``class_changes`` and
-        ``elliptic_hyperbolic`` (int8); on ``(phi, theta)``: ``boundary``
+        ``elliptic_hyperbolic`` (int8), ``elliptic_hyperbolic_below`` (both
+        classes met with ``theta < pi/2 - phi - margin``, below the parabolic
+        line); on ``(phi, theta)``: ``boundary``
         (``R_e``) and ``radius_shift`` (``R^* - R_e``); on ``phi``:
         ``radius_threshold`` (``R^*``).  Attributes: ``n_columns`` (columns
         with an orbit at two launch angles at least), ``n_changing``,
-        ``n_elliptic_hyperbolic``, ``n_missing`` (grid points without orbit).
+        ``n_elliptic_hyperbolic``, ``n_missing`` (grid points without orbit),
+        ``n_columns_below``, ``n_changing_below`` (the same below the line),
+        ``n_above``, ``n_above_hyperbolic`` (points above the line, and the hyperbolic ones).
 
     Raises
     ------
@@ -137,11 +158,13 @@ def launch_angle_classes(radii, phis, thetas, gamma=1 / math.sqrt(2), *, gravity
     boundary, shift = _boundaries(eigen_sum, radii, phis, thetas, threshold, margin)
     n_classes, both = _column_changes(kinds)
     counted = (kinds != "").sum(axis=-1) >= 2
+    below, counted_below, n_above, n_above_hyperbolic = _sides(kinds, phis, thetas, margin)
     ds = xr.Dataset(
         {"linear_kind": (("radius", "phi", "theta"), kinds), "eigen_sum": (("radius", "phi", "theta"), eigen_sum),
          "n_classes": (("radius", "phi"), n_classes.astype(np.int64)),
          "class_changes": (("radius", "phi"), ((n_classes > 1) & counted).astype(np.int8)),
          "elliptic_hyperbolic": (("radius", "phi"), (both & counted).astype(np.int8)),
+         "elliptic_hyperbolic_below": (("radius", "phi"), below.astype(np.int8)),
          "boundary": (("phi", "theta"), boundary), "radius_shift": (("phi", "theta"), shift),
          "radius_threshold": ("phi", threshold)},
         coords={"radius": radii, "phi": phis, "theta": thetas})
@@ -150,7 +173,9 @@ def launch_angle_classes(radii, phis, thetas, gamma=1 / math.sqrt(2), *, gravity
                     scene=("two no-slip disks of radius R centred at (-1, 0) and (1, 0), open table "
                            "(noslipsim.tables.two_disks(R, distance=2))"),
                     n_columns=int(counted.sum()), n_changing=int(ds.class_changes.sum()),
-                    n_elliptic_hyperbolic=int(ds.elliptic_hyperbolic.sum()), n_missing=int((kinds == "").sum()))
+                    n_elliptic_hyperbolic=int(ds.elliptic_hyperbolic.sum()), n_missing=int((kinds == "").sum()),
+                    n_columns_below=int(counted_below.sum()), n_changing_below=int(below.sum()), n_above=n_above,
+                    n_above_hyperbolic=n_above_hyperbolic)
     return annotate(ds)
 
 
