@@ -15,6 +15,7 @@ report: "workflow/report/workflow.rst"
 
 
 include: "workflow/rules/common.smk"
+include: "workflow/rules/conjectures.smk"
 include: "workflow/rules/simulations.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/report.smk"

@@ -227,6 +227,28 @@ def check_portraits_islands(ds):
     assert ((onset >= ds.gamma.values[0]) & (onset <= ds.gamma.values[-1]))[np.isfinite(onset)].all()
 
 
+def check_conjectures_launch(ds):
+    kinds = ds.linear_kind.values.astype(str)
+    assert set(kinds.ravel()) <= {"elliptic", "hyperbolic", "parabolic", ""}
+    assert (np.isfinite(ds.eigen_sum.values) == (kinds != "")).all()
+    changes = ds.class_changes.values
+    assert ((ds.elliptic_hyperbolic.values <= changes) & ((changes == 1) <= (ds.n_classes.values > 1))).all()
+    assert ds.attrs["n_changing"] == changes.sum() <= ds.attrs["n_columns"]
+    assert ((ds.radius_threshold > 0) & (ds.radius_threshold < 1)).all()
+
+
+def check_conjectures_census(ds):
+    from noslipsim.experiments import census_counts
+
+    found = ds.outcome.values.astype(str) == "found"
+    assert set(ds.outcome.values.astype(str)) <= {"found", "not converged", "no return"}
+    assert ((ds.minimal_period.values > 0) == found).all() and (ds.residual.values[found] <= ds.attrs["tol"]).all()
+    assert (ds.period.values[found] % ds.minimal_period.values[found] == 0).all()
+    counts = census_counts(ds)
+    assert int(counts.searches.sum()) == ds.sizes["search"]
+    assert (counts.isolated + counts.family == counts.distinct).all()
+
+
 #: Specific checks of the datasets that have them (path under results/ -> check); every dataset
 #: also gets the generic checks of test_every_dataset_opens_with_provenance_and_sane_values.
 DATASET_CHECKS = {
@@ -255,6 +277,8 @@ DATASET_CHECKS = {
     "portraits/islands.nc": check_portraits_islands,
     "portraits/hex_force.nc": check_portraits_hex_force,
     "portraits/hex_readings.nc": check_portraits_hex_readings,
+    "conjectures/launch.nc": check_conjectures_launch,
+    "conjectures/census.nc": check_conjectures_census,
 }
 
 

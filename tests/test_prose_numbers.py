@@ -13,7 +13,7 @@ import pytest
 from noslipsim.plot import prose as nb
 
 ROOT = Path(__file__).resolve().parents[1]
-PROSE = ["README.md", "config/README.md", "docs/figures.md"]
+PROSE = ["README.md", "config/README.md", "docs/figures.md", "docs/conjectures.md"]
 CAPTIONS = sorted((ROOT / "workflow" / "report").glob("*.rst"))
 
 NUMBERS = {"portraits": {"onset": {"description": "d", "value": 0.31875, "format": ".3f", "stderr": 0.0081},

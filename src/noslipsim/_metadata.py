@@ -216,6 +216,23 @@ VARIABLES = {
     "onset_gamma_stderr": ("bootstrap standard deviation of onset_gamma", "1"),
     "onset_gamma_low": ("16th percentile of the bootstrap onsets", "1"),
     "onset_gamma_high": ("84th percentile of the bootstrap onsets", "1"),
+    # ------------------------------------------------ experiments.conjectures (Figures S4, S5)
+    "n_classes": ("distinct linear classes of the orbit along the launch angle", "1"),
+    "class_changes": ("1 if the linear class changes with the launch angle alone", "1"),
+    "elliptic_hyperbolic": ("1 if the orbit is elliptic at one launch angle and hyperbolic at another", "1"),
+    "elliptic_hyperbolic_below": ("1 if elliptic and hyperbolic both occur at launch angles below the parabolic line "
+                                  "theta < pi/2 - phi - margin", "1"),
+    "boundary": ("measured elliptic boundary R_e(phi): largest radius where lambda + 1/lambda falls through 2 "
+                 "(NaN: none, or phi + theta near pi/2)", "1"),
+    "radius_shift": ("R*(phi) - R_e(phi): how far the force moves the elliptic boundary (positive: to smaller "
+                     "disks)", "1"),
+    "search": ("search of the periodic-orbit finder, from one random start", "1"),
+    "force_angle": ("direction of the force, counter-clockwise from straight down", "rad"),
+    "outcome": ("how the search ended: found, not converged, no return", "1"),
+    "isolated": ("1 if the orbit found has no eigenvalue 1 over its minimal period, 0 if it has, -1 if none "
+                 "found", "1"),
+    "itinerary": ("walls hit over one minimal period (L left, R right)", "1"),
+    "distinct": ("1 on the first search that found its orbit (up to the wedge's scaling), else 0", "1"),
 }
 
 #: Names that mean exactly what another entry means, and take its entry.

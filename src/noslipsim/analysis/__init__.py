@@ -27,7 +27,7 @@ from .portraits import (
     reduced_states,
     velocity_portrait,
 )
-from .stability import agreement_share, elliptic_boundary, stability_grid, stability_grid_theta
+from .stability import agreement_share, elliptic_boundary, stability_grid, stability_grid_theta, two_disk_classes
 from .tangent import CornerError
 
 __all__ = [
@@ -36,6 +36,7 @@ __all__ = [
     "excess_kurtosis", "find_periodic_orbit", "finite_time_lyapunov", "head_on_onset_gamma", "interior_starts",
     "islands_onsets", "lyapunov",
     "monodromy", "onset_gamma", "reduced_portrait", "reduced_states", "regular_share", "stability_grid",
-    "stability_grid_theta", "twin_lyapunov", "two_disk_orbit", "uniform_reduced_states", "velocity_portrait",
+    "stability_grid_theta", "twin_lyapunov", "two_disk_classes", "two_disk_orbit", "uniform_reduced_states",
+    "velocity_portrait",
     "wedge_noforce_orbit", "wedge_orbit",
 ]

@@ -55,7 +55,8 @@ from .monodromy import KINDS, UNIT_TOL, classify
 from .orbits import two_disk_orbit
 from .tangent import check_no_corner, step_jacobians
 
-__all__ = ["DEFAULT_PERTURBATION", "agreement_share", "elliptic_boundary", "stability_grid", "stability_grid_theta"]
+__all__ = ["DEFAULT_PERTURBATION", "agreement_share", "elliptic_boundary", "stability_grid", "stability_grid_theta",
+           "two_disk_classes"]
 
 #: The default perturbation of the start: velocity turned by 1e-3 rad, spin unchanged.
 DEFAULT_PERTURBATION = {"angle": 1e-3, "spin": 0.0}
@@ -459,3 +460,66 @@ def stability_grid_theta(radii, thetas, gamma, *, phi, gravity, perturbation=DEF
     thr = float(theory.ellipticity_threshold(phi, gamma))
     ds["radius_threshold"] = ((), 2.0 / (thr + 2.0 * math.cos(phi)))
     return _finish(ds)
+
+
+def _existing_orbits(radius, points, gamma, gravity):
+    """The orbits of :func:`two_disk_orbit` at ``points``; ``None`` where it refuses (no such orbit)."""
+    out = []
+    for phi, theta in points:
+        try:
+            out.append(two_disk_orbit(radius, phi, gamma, theta=theta, gravity=gravity))
+        except ValueError:  # the flight meets the table elsewhere, or never reaches q1
+            out.append(None)
+    return out
+
+
+def two_disk_classes(radius, points, gamma, *, gravity=0.0, scheduler="numba", num_workers=None):
+    """Linear class and ``lambda + 1/lambda`` of the two-disk 2-periodic orbits at many ``(phi, theta)`` of one radius.
+
+    The classes of :func:`stability_grid` without its survival runs, for
+    points where the orbit may not exist: one :func:`noslipsim.simulate_many`
+    call (``record='log'``, three collisions) runs every orbit of the radius
+    (one scene), and the exact 2-bounce monodromy of each is classified.
+    Where :func:`~noslipsim.analysis.two_disk_orbit` refuses the combination,
+    or the run does not bounce ``q1, q0, q1``, there is no such orbit.
+
+    Parameters
+    ----------
+    radius : float
+        Disk radius in ``(0, 1)`` (centres 2 apart).
+    points : sequence of (float, float or None)
+        ``(phi, theta)`` per orbit; ``theta`` None without force.
+    gamma : float
+        Mass-distribution constant ``> 0``.
+    gravity : float
+        ``g >= 0``; force ``(0, -g)``.
+    scheduler, num_workers
+        Passed to :func:`noslipsim.simulate_many` (a ``dask.distributed``
+        Client spreads the orbits over a cluster).
+
+    Returns
+    -------
+    kinds : ndarray of str
+        ``'elliptic'``, ``'hyperbolic'``, ``'parabolic'``, or ``''`` where there is no orbit.
+    eigen_sum : ndarray of float
+        ``lambda + 1/lambda`` (NaN where there is no orbit).
+    """
+    orbits = _existing_orbits(float(radius), points, gamma, gravity)
+    kinds = np.full(len(points), "", dtype="<U10")
+    eigen_sum = np.full(len(points), np.nan)
+    ok = np.flatnonzero([o is not None for o in orbits])
+    if ok.size == 0:
+        return kinds, eigen_sum
+    scene = orbits[ok[0]][0]  # the same table for every point of the radius
+    states = [orbits[i][1] for i in ok]
+    base = simulate_many(scene, [s["position"] for s in states], [s["velocity"] for s in states],
+                         [s["spin"] for s in states], max_collisions=_LOG_ROWS, record="log", scheduler=scheduler,
+                         num_workers=num_workers, progress=False)
+    logs = _logs(base, _LOG_ROWS)
+    el = logs[:, :, layout.LOG_ELEMENT]
+    bounced = (base.n_collisions.values >= _LOG_ROWS) & (el[:, 0] == 1) & (el[:, 1] == 0) & (el[:, 2] == 1)
+    if bounced.any():
+        _, k, es = _two_bounce(scene, logs[bounced])
+        kinds[ok[bounced]] = k
+        eigen_sum[ok[bounced]] = es
+    return kinds, eigen_sum

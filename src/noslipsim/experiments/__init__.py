@@ -3,9 +3,11 @@
 One module per subject of the figure pipeline: :mod:`.galton` (Figures 2, 3, S1),
 :mod:`.orbits` (Figures 1, 4, 5, 6, 8, 16), :mod:`.stability` (Figures 7, 9, 14, 15) and
 :mod:`.portraits` (Figures 10-13), :mod:`.readings` (Figure 15 under every reading),
+:mod:`.conjectures` (Figures S4, S5: two of the paper's conjectures, counted),
 over :mod:`.orbit_sets` (several orbits as one dataset).
 ``EXPERIMENTS`` names those a config file can run (``noslipsim run``).
 """
+from .conjectures import census_counts, launch_angle_classes, wedge_periodic_census
 from .galton import galton_cases, galton_distribution, galton_evidence, galton_orbits, galton_radius_sweep
 from .orbit_sets import orbit_set, phase_portrait
 from .orbits import (
@@ -42,6 +44,7 @@ __all__ = [
     "EXPERIMENTS",
     "HEX_READINGS",
     "bounce_orbits",
+    "census_counts",
     "galton_cases",
     "galton_distribution",
     "galton_evidence",
@@ -50,6 +53,7 @@ __all__ = [
     "hex_force_portraits",
     "hex_force_readings",
     "hex_reading_scene",
+    "launch_angle_classes",
     "lemon_sinai_portraits",
     "newwedge_orbits",
     "orbit_set",
@@ -67,5 +71,6 @@ __all__ = [
     "survival_pattern",
     "two_disk_box_orbits",
     "wedge_launch_scan",
+    "wedge_periodic_census",
     "wedge_periodic_orbits",
 ]

@@ -1,0 +1,27 @@
+# Two of the paper's conjectures as experiments with counts (Figures S4, S5; docs/conjectures.md).
+# Included after common.smk and before the rule files: it adds its entries to the tables (KERNELS,
+# DATASETS, FIGURES, NUMBERS, SCRIPTS) from which simulations.smk, figures.smk and report.smk
+# generate the rules, so the rules have the shape of every other one.
+
+# the two-disk orbits (plain tables) and the wedges under a force (walls+force), with logs (monodromy,
+# the finder) and simulate_many's records
+KERNELS["conjectures"] = ["plain:no-slip:log", "walls+force:no-slip:log", "walls+force:no-slip:none"]
+
+CONJECTURE_DATASETS = {
+    "conjectures_launch": dataset("conjectures", "launch.nc", "launch", "conjecture_launch",
+                                  lambda: {"common": stability_common(), "run": section("conjectures.launch")},
+                                  ENSEMBLE),
+    "conjectures_census": dataset("conjectures", "census.nc", "census", "conjecture_census",
+                                  lambda: {"common": stability_common(), "run": section("conjectures.census")},
+                                  ENSEMBLE),
+}
+CONJECTURE_FIGURES = {
+    "figS4_launch_classes": figure("Conjectures", {"launch": "conjectures_launch"}),
+    "figS5_periodic_census": figure("Conjectures", {"census": "conjectures_census"}),
+}
+DATASETS.update(CONJECTURE_DATASETS)
+FIGURES.update(CONJECTURE_FIGURES)
+NUMBERS["conjectures"] = figure(None, {"launch": "conjectures_launch", "census": "conjectures_census"})
+SCRIPTS.update({name: spec["script"] for name, spec in CONJECTURE_DATASETS.items()})
+SCRIPTS.update({name: name for name in CONJECTURE_FIGURES})
+SCRIPTS["numbers_conjectures"] = "numbers_conjectures"

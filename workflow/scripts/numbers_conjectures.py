@@ -1,0 +1,104 @@
+"""Counts of two of the paper's conjectures: the launch angle and the class of 2-periodic orbits (Figure S4),
+isolated and family periodic orbits of wedges under a force (Figure S5).  Counts, and shares to three digits."""
+import json
+import sys
+
+sys.stderr = open(snakemake.log[0], "w", buffering=1)
+
+import numpy as np
+import xarray as xr
+
+from noslipsim.experiments import census_counts
+
+launch, census = xr.load_dataset(snakemake.input.launch), xr.load_dataset(snakemake.input.census)
+counts = census_counts(census)
+numbers = {}
+
+# ------------------------------------------------------------------ launch angle (Figure S4)
+n_col, n_changing, n_both, n_missing = (int(launch.attrs[k]) for k in ("n_columns", "n_changing",
+                                                                      "n_elliptic_hyperbolic", "n_missing"))
+grid = f"{launch.sizes['radius']} R × {launch.sizes['phi']} φ × {launch.sizes['theta']} θ"
+numbers["launch_columns"] = dict(description=f"two disks, force (0, -g): (R, φ) columns of the {grid} grid with an "
+                                 "orbit at two launch angles at least", value=n_col, format="d")
+numbers["launch_share_changing"] = dict(
+    description="share of those columns whose linear class changes with the launch angle θ alone (θ over (0, π/2), "
+                "across the parabolic line θ = π/2 - φ)",
+    value=n_changing / n_col, format=".1%", paper="stability depends on the launch angle",
+    note=f"{n_changing} of {n_col} columns")
+numbers["launch_share_elliptic_hyperbolic"] = dict(
+    description="share of the columns that are elliptic at some θ and hyperbolic at another",
+    value=n_both / n_col, format=".1%",
+    note=f"{n_both} of {n_col} columns")
+below, n_below = int(launch.attrs["n_changing_below"]), int(launch.attrs["n_columns_below"])
+numbers["launch_share_changing_below_line"] = dict(
+    description=f"the same away from the parabolic line: launch angles θ < π/2 - φ - {launch.attrs['margin']:g} "
+                "only, share of columns elliptic at some θ and hyperbolic at another", value=below / n_below,
+    format=".1%", paper="stability depends on the launch angle", note=f"{below} of {n_below} columns")
+# the columns below the line, split by the force-free threshold R*(phi)
+line = launch.theta < np.pi / 2 - launch.phi - launch.attrs["margin"]
+kinds = launch.linear_kind.where(line, "").transpose("radius", "phi", "theta").values.astype(str)
+counted = (kinds != "").sum(axis=-1) >= 2
+steady_elliptic = (kinds == "elliptic").any(axis=-1) & ~(kinds == "hyperbolic").any(axis=-1)
+small = launch.radius.values[:, None] < launch.radius_threshold.values[None, :]
+changing = launch.elliptic_hyperbolic_below.values.astype(bool)
+for key, side, mask, what in (("below", "R < R*(φ)", counted & small, changing),
+                              ("above", "R > R*(φ)", counted & ~small, steady_elliptic)):
+    verb = "change class along θ" if key == "below" else "are elliptic at every θ"
+    numbers[f"launch_share_{key}_threshold"] = dict(
+        description=f"below the parabolic line, columns with {side} (force-free threshold) that {verb}",
+        value=int((mask & what).sum()) / int(mask.sum()), format=".1%",
+        note=f"{int((mask & what).sum())} of {int(mask.sum())} columns")
+n_above, n_above_hyp = int(launch.attrs["n_above"]), int(launch.attrs["n_above_hyperbolic"])
+numbers["launch_share_hyperbolic_above_line"] = dict(
+    description=f"share of the orbits launched above the line, θ > π/2 - φ + {launch.attrs['margin']:g}, "
+                "that are hyperbolic", value=n_above_hyp / n_above, format=".1%", note=f"{n_above_hyp} of {n_above}")
+numbers["launch_points_without_orbit"] = dict(
+    description="grid points where the 2-periodic orbit does not exist (its flight meets the table elsewhere)",
+    value=n_missing, format="d", note=f"of {launch.linear_kind.size} points")
+shift = launch.radius_shift
+first = shift.isel(theta=0)
+numbers["launch_boundary_at_smallest_theta"] = dict(
+    description=f"largest |R* - R_e| over φ at θ = {float(launch.theta[0]):.2f}: the measured elliptic boundary "
+                "against the force-free closed form", value=float(np.nanmax(np.abs(first))), format=".3f",
+    paper="the stability threshold is unaltered (Figure 15, lower left)",
+    note=f"radius step {float(launch.radius[1] - launch.radius[0]):.3f}; {int(np.isfinite(first).sum())} φ columns")
+k = np.unravel_index(int(np.nanargmax(shift.values)), shift.shape)
+numbers["launch_boundary_largest_shift"] = dict(
+    description="largest R* - R_e over every (φ, θ) with a measured boundary: how far the launch angle moves the "
+                "elliptic region to smaller disks", value=float(shift.values[k]), format=".2f",
+    note=f"at φ = {float(launch.phi[k[0]]):.2f}, θ = {float(launch.theta[k[1]]):.2f}; "
+         f"{int(np.isfinite(shift).sum())} (φ, θ) columns, φ + θ within {launch.attrs['margin']:g} of π/2 left out")
+
+# ------------------------------------------------------------------ periodic census (Figure S5)
+outcomes = counts.searches.sum("period")
+n_of = lambda key: np.atleast_1d(census.attrs[key]).size  # noqa: E731 (a one-item list reads back a scalar)
+where = (f"{n_of('phis')} half-angles × {n_of('force_angles')} force directions, periods "
+         f"{int(counts.period.min())}-{int(counts.period.max())}, {census.attrs['starts']} starts each")
+numbers["census_searches"] = dict(description="wedges under a force: searches of the periodic-orbit finder",
+                                  value=int(census.sizes["search"]), format="d", note=where)
+for outcome in ("found", "not converged", "no return"):
+    numbers[f"census_{outcome.replace(' ', '_')}"] = dict(
+        description=f"searches that ended '{outcome}'", value=int(outcomes.sel(outcome=outcome)), format="d")
+
+
+def per(name):
+    """``minimal period: count`` of one census count, periods with none left out."""
+    return ", ".join(f"{int(m)}: {int(v)}" for m, v in zip(counts.minimal_period.values, counts[name].values) if v)
+
+
+numbers["census_distinct"] = dict(description="distinct periodic orbits found (up to the wedge's scaling)",
+                                  value=int(counts.distinct.sum()), format="d",
+                                  note="by minimal period: " + (per("distinct") or "none"))
+numbers["census_isolated"] = dict(description="distinct orbits that are isolated (no eigenvalue 1)",
+                                  value=int(counts.isolated.sum()), format="d",
+                                  paper="isolated higher order periodic orbits exist on a wedge",
+                                  note="by minimal period: " + (per("isolated") or "none"))
+numbers["census_family"] = dict(description="distinct orbits on a family (an eigenvalue 1 at fixed energy)",
+                                value=int(counts.family.sum()), format="d",
+                                note="by minimal period: " + (per("family") or "none"))
+even = counts.minimal_period.values % 2 == 0
+numbers["census_isolated_even"] = dict(description="isolated distinct orbits of even minimal period",
+                                       value=int(counts.isolated.values[even].sum()), format="d",
+                                       paper="an isolated period-8 orbit (Figure 7)")
+with open(snakemake.output.numbers, "w") as fh:
+    json.dump(numbers, fh, indent=1, ensure_ascii=False)
