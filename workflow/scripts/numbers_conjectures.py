@@ -9,6 +9,11 @@ import numpy as np
 import xarray as xr
 
 from noslipsim.experiments import census_counts
+from noslipsim.plot.numbers import significant
+
+# shares k/n are exact ratios of counts: 6 significant digits (the table prints 3); the boundary
+# distances are interpolated on the radius grid, known far below their printed 2-3 decimals: 6 too
+SHARE, BOUNDARY = 6, 6
 
 launch, census = xr.load_dataset(snakemake.input.launch), xr.load_dataset(snakemake.input.census)
 counts = census_counts(census)
@@ -23,16 +28,17 @@ numbers["launch_columns"] = dict(description=f"two disks, force (0, -g): (R, φ)
 numbers["launch_share_changing"] = dict(
     description="share of those columns whose linear class changes with the launch angle θ alone (θ over (0, π/2), "
                 "across the parabolic line θ = π/2 - φ)",
-    value=n_changing / n_col, format=".1%", paper="stability depends on the launch angle",
+    value=significant(n_changing / n_col, SHARE), format=".1%", paper="stability depends on the launch angle",
     note=f"{n_changing} of {n_col} columns")
 numbers["launch_share_elliptic_hyperbolic"] = dict(
     description="share of the columns that are elliptic at some θ and hyperbolic at another",
-    value=n_both / n_col, format=".1%",
+    value=significant(n_both / n_col, SHARE), format=".1%",
     note=f"{n_both} of {n_col} columns")
 below, n_below = int(launch.attrs["n_changing_below"]), int(launch.attrs["n_columns_below"])
 numbers["launch_share_changing_below_line"] = dict(
     description=f"the same away from the parabolic line: launch angles θ < π/2 - φ - {launch.attrs['margin']:g} "
-                "only, share of columns elliptic at some θ and hyperbolic at another", value=below / n_below,
+                "only, share of columns elliptic at some θ and hyperbolic at another",
+    value=significant(below / n_below, SHARE),
     format=".1%", paper="stability depends on the launch angle", note=f"{below} of {n_below} columns")
 # the columns below the line, split by the force-free threshold R*(phi)
 line = launch.theta < np.pi / 2 - launch.phi - launch.attrs["margin"]
@@ -46,12 +52,13 @@ for key, side, mask, what in (("below", "R < R*(φ)", counted & small, changing)
     verb = "change class along θ" if key == "below" else "are elliptic at every θ"
     numbers[f"launch_share_{key}_threshold"] = dict(
         description=f"below the parabolic line, columns with {side} (force-free threshold) that {verb}",
-        value=int((mask & what).sum()) / int(mask.sum()), format=".1%",
+        value=significant(int((mask & what).sum()) / int(mask.sum()), SHARE), format=".1%",
         note=f"{int((mask & what).sum())} of {int(mask.sum())} columns")
 n_above, n_above_hyp = int(launch.attrs["n_above"]), int(launch.attrs["n_above_hyperbolic"])
 numbers["launch_share_hyperbolic_above_line"] = dict(
     description=f"share of the orbits launched above the line, θ > π/2 - φ + {launch.attrs['margin']:g}, "
-                "that are hyperbolic", value=n_above_hyp / n_above, format=".1%", note=f"{n_above_hyp} of {n_above}")
+                "that are hyperbolic", value=significant(n_above_hyp / n_above, SHARE), format=".1%",
+    note=f"{n_above_hyp} of {n_above}")
 numbers["launch_points_without_orbit"] = dict(
     description="grid points where the 2-periodic orbit does not exist (its flight meets the table elsewhere)",
     value=n_missing, format="d", note=f"of {launch.linear_kind.size} points")
@@ -59,13 +66,14 @@ shift = launch.radius_shift
 first = shift.isel(theta=0)
 numbers["launch_boundary_at_smallest_theta"] = dict(
     description=f"largest |R* - R_e| over φ at θ = {float(launch.theta[0]):.2f}: the measured elliptic boundary "
-                "against the force-free closed form", value=float(np.nanmax(np.abs(first))), format=".3f",
+                "against the force-free closed form", value=significant(float(np.nanmax(np.abs(first))), BOUNDARY),
+    format=".3f",
     paper="the stability threshold is unaltered (Figure 15, lower left)",
     note=f"radius step {float(launch.radius[1] - launch.radius[0]):.3f}; {int(np.isfinite(first).sum())} φ columns")
 k = np.unravel_index(int(np.nanargmax(shift.values)), shift.shape)
 numbers["launch_boundary_largest_shift"] = dict(
     description="largest R* - R_e over every (φ, θ) with a measured boundary: how far the launch angle moves the "
-                "elliptic region to smaller disks", value=float(shift.values[k]), format=".2f",
+                "elliptic region to smaller disks", value=significant(float(shift.values[k]), BOUNDARY), format=".2f",
     note=f"at φ = {float(launch.phi[k[0]]):.2f}, θ = {float(launch.theta[k[1]]):.2f}; "
          f"{int(np.isfinite(shift).sum())} (φ, θ) columns, φ + θ within {launch.attrs['margin']:g} of π/2 left out")
 
