@@ -197,3 +197,13 @@ def test_the_chain_check_is_exact_at_any_magnitude(k):
             Scene.from_dict({"elements": square})
         with pytest.raises(ValueError, match=r"^elements\[2\]: the closed chain of segments"):
             Scene.from_dict({"elements": bow_tie})
+
+
+def test_a_closed_chain_at_the_top_of_the_float_range_is_refused_by_name_not_overflowed():
+    """The simplicity check scales the vertices by a power of two: at 4.5e307 that power was 2^1024, an
+    OverflowError (found by tests/test_fuzz.py); the scene is now refused for its size, by name."""
+    size = 4.49423283715579e307
+    corners = [[0.0, 0.0], [size, 0.0], [0.0, size]]
+    chain = [{"type": "segment", "p0": corners[i], "p1": corners[(i + 1) % 3]} for i in range(3)]
+    with pytest.raises(ValueError, match=r"^elements"):
+        Scene.from_dict({"law": "no-slip", "elements": chain})

@@ -462,7 +462,7 @@ def polygon_defect(vertices, gap=0.0) -> tuple[str, int, int] | None:
     """
     v = np.asarray(vertices, dtype=float)
     # scaled by a power of two (exact, so every sign below is the unscaled one): no product over- or underflows
-    unit = math.ldexp(1.0, math.frexp(float(np.abs(v).max()))[1]) if np.abs(v).max() > 0 else 1.0
+    unit = math.ldexp(1.0, math.frexp(float(np.abs(v).max()))[1] - 1) if np.abs(v).max() > 0 else 1.0
     v, gap = v / unit, gap / unit
     n = len(v)
     a, b = v, np.roll(v, -1, axis=0)
