@@ -26,9 +26,9 @@ from noslipsim.cli import EXIT_USAGE, main
 
 ROOT = Path(__file__).resolve().parents[1]
 BOX = str(ROOT / "examples" / "sinai_box.yaml")  # [0, 1]^2 with a disk of radius 0.3 at the centre
-#: Per-example deadline (ms): far above any legitimate example of these small runs.
-DEADLINE_MS = 20_000
-DEFAULT = dict(deadline=DEADLINE_MS, derandomize=True, database=None, max_examples=120,
+#: No per-example deadline: the first example of a command compiles its kernel variant (2 minutes under load,
+#: then 1.3 s), and what these tests assert is the exit status and the message, not the time.
+DEFAULT = dict(deadline=None, derandomize=True, database=None, max_examples=120,
                suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
 STRESS = dict(DEFAULT, derandomize=False, max_examples=1500)
 
