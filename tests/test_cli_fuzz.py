@@ -167,6 +167,10 @@ def test_every_option_value_ends_in_an_answer_or_one_line_stress(case, tmp_path)
     # found by the fuzzer: duration x fps overflowed to infinity (OverflowError, exit 1)
     ["animate", BOX, "--position", "0.1", "0.1", "--velocity", "1", "0", "--duration", "1.7976931348623157e308",
      "-o", "{tmp}/o.gif"],
+    # found by the stress fuzzer: fonts below a pixel (FreeType's invalid ppem, exit 1); the portrait's record
+    # buffer (MemoryError, exit 1)
+    ["animate", BOX, "--position", "0.1", "0.1", "--velocity", "1", "0", "--dpi", "2", "-o", "{tmp}/o.gif"],
+    ["portrait", BOX, "--orbits", str(10**12), "-n", "20", "-o", "{tmp}/o.nc"],
 ])
 def test_known_cases_obey_the_rule(argv, tmp_path):
     assert check_the_rule(tmp_path, argv[0], argv) == EXIT_USAGE

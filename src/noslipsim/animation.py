@@ -139,9 +139,17 @@ def _positive(value, name, integer=False):
     return int(value) if integer else float(value)
 
 
+#: The smallest dpi a frame is drawn at: below it the labels' fonts are under one pixel, which FreeType
+#: refuses (``invalid ppem value`` at dpi 1 and 2, found by the CLI fuzz).
+MIN_DPI = 20
+
+
 def _check_frames(dpi, portrait, n_frames, fmt):
-    """``dpi`` as a positive integer whose frames fit in memory (Pillow holds every GIF frame until written)."""
+    """``dpi`` as an integer of at least :data:`MIN_DPI` whose frames fit in memory (Pillow holds every GIF
+    frame until written)."""
     dpi = _positive(dpi, "dpi", integer=True)
+    if dpi < MIN_DPI:
+        raise ValueError(f"dpi: {dpi} is below {MIN_DPI}, the smallest at which a frame's labels can be drawn")
     w, h = (round(inches * dpi) for inches in FRAME_INCHES[bool(portrait)])
     size = f"{w} x {h} pixels"
     check_memory(w * h * FRAME_BYTES, "dpi", f"a frame of {size}", "lower the dpi")

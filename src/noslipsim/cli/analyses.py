@@ -15,6 +15,7 @@ import os
 import numpy as np
 
 from .._validate import check_memory
+from ..core.layout import N_PORTRAIT
 from .options import _orbit_arguments, _start_errors
 
 
@@ -121,6 +122,9 @@ def portrait(args):
     scene = Scene.from_yaml(args.scene)
     n = _positive_int(args.orbits, "--orbits")
     m = _positive_int(args.collisions, "-n/--collisions")
+    # each orbit's buffer holds a row of N_PORTRAIT floats per collision (found by the CLI fuzz: --orbits 1e12)
+    check_memory(n * (ENSEMBLE_ORBIT_BYTES + m * N_PORTRAIT * 8), "--orbits, -n/--collisions",
+                 f"a portrait of {n} orbits x {m} collisions", "use fewer orbits or collisions")
     kind = args.kind or paper_portrait(scene)
     chosen = portrait_elements(scene, kind)
     ds = phase_portrait(scene, n_orbits=n, n_collisions=m, seed=args.seed, elements=chosen, progress=False)
