@@ -89,8 +89,8 @@ def run_orbits(table, starts, *, max_collisions, max_time=math.inf, levels=None,
     final = np.zeros((n, N_FINAL))
     args = (*table.arrays(), table.law, table.c, table.s, table.ax, table.ay, table.thermostat)
     if n:
-        _load_orbit_kernel_first(flags, args, starts, max_collisions, max_time, levels, table.scale, mode, rec, mask,
-                                 start_elements, ceilings)
+        _load_orbit_kernel_first(flags, args, starts, max_time, levels, table.scale, mode, rec, mask, start_elements,
+                                 ceilings)
     _kernel(flags)(*args, starts, start_elements, max_collisions, max_time, levels, table.scale, mode, rec, mask,
                    final, ceilings)
     check_variant(final[:, F_VARIANT], flags)
@@ -101,8 +101,7 @@ _BUILDING = threading.Lock()
 _LOADED = set()
 
 
-def _load_orbit_kernel_first(flags, args, starts, max_collisions, max_time, levels, scale, mode, rec, mask,
-                             start_elements, ceilings):
+def _load_orbit_kernel_first(flags, args, starts, max_time, levels, scale, mode, rec, mask, start_elements, ceilings):
     """Compile or load the orbit kernel for this call's types before the batch kernel that calls it.
 
     A process that compiles the batch kernel compiles the orbit kernel first, and the batch's
