@@ -24,7 +24,7 @@ from noslipsim import Circle, Scene, tables
 from noslipsim._engine.table import kernel_table
 from noslipsim.core import layout
 from noslipsim.core.loop import orbit_kernel, run_orbit
-from noslipsim.core.variant import GENERAL
+from noslipsim.core.variant import FREE, GENERAL
 from noslipsim.scenes import MIN_FORCE
 from noslipsim.simulate import start_cell
 
@@ -144,15 +144,16 @@ def test_comparison_sees_one_ulp_and_a_wrong_law():
 @pytest.mark.parametrize("name,law", CASES)
 def test_kernel_variant_asks_only_for_what_the_scene_needs(name, law, mode):
     scene = scene_of(name, law)[0]
-    force, spin, lattice, m, disks, walls, thermostat, mixed = kernel_table(scene).variant(mode)
+    force, spin, lattice, m, disks, walls, flight, mixed = kernel_table(scene).variant(mode)
     # exact bools: orbit_kernel tells "fixed False" from "read at run time" by identity (``is False``)
-    assert all(f is True or f is False for f in (force, spin, lattice, disks, walls, thermostat, mixed))
-    assert thermostat is False  # no scene here has one: none compiles the thermostatted flights
+    assert all(f is True or f is False for f in (force, spin, lattice, disks, walls, mixed))
+    assert flight == FREE and type(flight) is int  # no scene here has a thermostat or a field
     assert mixed is False  # one law per table: none compiles per-element laws
     assert force is (name in ("circle_gravity", "galton", "wedge"))
     assert spin is (law == "no-slip")
     assert lattice is (name in ("galton", "sinai_torus"))
-    assert m == mode and type(m) is int
+    # no records: the recorder is compiled out; a log or a portrait: one kernel reads which at run time
+    assert (m == mode and type(m) is int) if mode == NONE else m is None
     assert disks is (name == "sinai_torus")
     assert walls is (name == "wedge")
 

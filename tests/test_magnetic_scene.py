@@ -1,5 +1,5 @@
-"""The scene key ``magnetic`` (a field normal to the table): file format, validation, and the refusal of
-every compiled entry point until the compiled magnetic flight lands (docs/scenes.md, "Magnetic field")."""
+"""The scene key ``magnetic`` (a field normal to the table): file format, validation, every compiled entry
+point flying it, and the free-fall tools refusing it by name (docs/scenes.md, "Magnetic field")."""
 import json
 import math
 
@@ -7,11 +7,9 @@ import numpy as np
 import pytest
 
 from noslipsim import Scene, simulate, simulate_many, tables
-from noslipsim._engine.table import MAGNETIC_REFUSAL
-from noslipsim.analysis import find_periodic_orbit, finite_time_lyapunov, lyapunov, monodromy
+from noslipsim.analysis import finite_time_lyapunov, lyapunov
 from noslipsim.analysis.section import energy_at, interior_log
 from noslipsim.cli import main
-from noslipsim.experiments import phase_portrait
 from noslipsim.reference import simulate_reference
 
 LINE = {"type": "line", "point": [0, 0], "normal": [0, 1]}
@@ -70,37 +68,40 @@ def test_a_bounded_lattice_takes_a_field():
 
 # ---------------------------------------------------------------------------- the compiled entry points
 MAGNETIC = BOX.replace(magnetic=1.5)
-REFUSED = "^scene: magnetic = 1.5: " + MAGNETIC_REFUSAL.replace(".", r"\.")
 START = ((0.4, 0.3), (0.7, 0.5))
 
 ENTRY_POINTS = {
-    "simulate": lambda s: simulate(s, *START, max_collisions=5),
-    "simulate_many": lambda s: simulate_many(s, [START[0]], [START[1]], max_collisions=5, scheduler="sync",
-                                             progress=False),
-    "interior_log": lambda s: interior_log(s, *START, 0.0, 5),
-    "monodromy": lambda s: monodromy(s, *START, period=2),
-    "find_periodic_orbit": lambda s: find_periodic_orbit(s, *START, period=2),
-    "phase_portrait": lambda s: phase_portrait(s, n_orbits=2, n_collisions=5, scheduler="sync", progress=False),
+    "simulate": lambda s: int(simulate(s, *START, max_collisions=5).n_collisions),
+    "simulate_many": lambda s: int(simulate_many(s, [START[0]], [START[1]], max_collisions=5, scheduler="sync",
+                                                 progress=False).n_collisions[0]),
+    "interior_log": lambda s: len(interior_log(s, *START, 0.0, 5)[0]),
 }
 
 
 @pytest.mark.parametrize("name", list(ENTRY_POINTS))
-def test_compiled_entry_points_refuse_a_field(name):
-    with pytest.raises(ValueError, match=REFUSED):
-        ENTRY_POINTS[name](MAGNETIC)
+def test_compiled_entry_points_fly_a_field(name):
+    """Each entry point runs the magnetic orbit the twin runs: five collisions, the same first hit."""
+    assert ENTRY_POINTS[name](MAGNETIC) == 5
 
 
-def test_simulate_many_to_a_folder_refuses_a_field(tmp_path):
-    with pytest.raises(ValueError, match=REFUSED):
-        simulate_many(MAGNETIC, [START[0]], [START[1]], max_collisions=5, out=tmp_path / "run", scheduler="sync",
-                      progress=False)
-    assert not (tmp_path / "run").exists()
+def test_the_field_bends_the_compiled_orbit():
+    with_field = simulate(MAGNETIC, *START, max_collisions=3)
+    without = simulate(BOX, *START, max_collisions=3)
+    ref = simulate_reference(MAGNETIC, *START, max_collisions=3, dps=30)
+    assert float(with_field.t[0]) != float(without.t[0])
+    np.testing.assert_allclose(with_field.x.values, ref.x.values.astype(float), atol=1e-12)
 
 
-def test_a_lattice_refuses_a_field_too():
+def test_simulate_many_to_a_folder_runs_a_field(tmp_path):
+    ds = simulate_many(MAGNETIC, [START[0]], [START[1]], max_collisions=5, out=tmp_path / "run", scheduler="sync",
+                       progress=False)
+    assert int(ds.n_collisions[0]) == 5 and (tmp_path / "run").exists()
+
+
+def test_a_lattice_flies_a_field_too():
     torus = tables.sinai_torus(0.3).replace(magnetic=1.5)
-    with pytest.raises(ValueError, match=REFUSED):
-        simulate(torus, (0.0, 0.45), (1.0, 0.3), max_collisions=5)
+    orbit = simulate(torus, (0.0, 0.45), (1.0, 0.3), max_collisions=5)
+    assert int(orbit.n_collisions) == 5
 
 
 def test_free_fall_tools_refuse_a_field_by_name():
@@ -113,19 +114,31 @@ def test_free_fall_tools_refuse_a_field_by_name():
         energy_at(MAGNETIC, *START, 0.0)
 
 
-def test_cli_refuses_a_field_in_one_line(tmp_path, capsys):
+def test_cli_simulates_a_field(tmp_path, capsys):
     path = tmp_path / "box.yaml"
     MAGNETIC.to_yaml(path)
     code = main(["simulate", str(path), "--position", "0.4", "0.3", "--velocity", "0.7", "0.5", "-n", "5",
                  "-o", str(tmp_path / "orbit.nc")])
-    err = capsys.readouterr().err
-    assert code == 2
-    assert err.count("\n") == 1 and err.startswith("noslipsim: error: ") and MAGNETIC_REFUSAL in err
-    assert not (tmp_path / "orbit.nc").exists()
+    assert code == 0
+    import xarray as xr
+
+    with xr.open_dataset(tmp_path / "orbit.nc") as ds:
+        assert int(ds.n_collisions) == 5
+        assert json.loads(ds.attrs["scene"])["magnetic"] == 1.5
+
+
+def test_cli_says_pinned(tmp_path, capsys):
+    path = tmp_path / "box.yaml"
+    tables.rectangle(20.0, 20.0).replace(magnetic=4.0).to_yaml(path)
+    code = main(["simulate", str(path), "--position", "10", "10", "--velocity", "0.6", "0.8", "-n", "5",
+                 "-o", str(tmp_path / "orbit.nc")])
+    assert code == 0
+    out = capsys.readouterr()
+    assert "pinned" in out.out + out.err
 
 
 def test_the_reference_runs_a_field():
-    """The one place a magnetic scene runs today: the orbit collides and keeps its kinetic energy."""
+    """The twin runs a magnetic scene too: the orbit collides and keeps its kinetic energy."""
     ds = simulate_reference(MAGNETIC, *START, max_collisions=5, dps=30)
     assert int(ds.n_collisions) == 5
     kinetic = ds.vx.values ** 2 + ds.vy.values ** 2 + ds.spin.values ** 2

@@ -11,13 +11,14 @@ The limit is a compile-time constant, so the tests run the kernels' Python sourc
 on a flight that needs several steps to reach a disk.
 """
 import math
+import types
 
 import numpy as np
 import pytest
 
 from noslipsim import tables
 from noslipsim._engine.table import kernel_table
-from noslipsim.core import layout, loop, thermo_events
+from noslipsim.core import layout, loop, search, thermo_events, thermo_flight
 from noslipsim.core.thermostat import flight
 from noslipsim.core.tolerances import EXTENT_TOL, MAX_CELLS_PER_FLIGHT
 
@@ -40,10 +41,20 @@ def _disk_search(table, fl, *, py):
 
 @pytest.fixture
 def one_step(monkeypatch):
-    """The kernels' Python source with a step limit of 1: every layer calls the others as Python."""
+    """The kernels' Python source with a step limit of 1: every layer calls the others as Python.
+
+    Returns the thermostat's event search (:func:`search.event_search`) built over the flight's
+    Python source: ``(hit_in_cell, walk_hit)`` as Python functions.
+    """
     monkeypatch.setattr(thermo_events, "MAX_STEPS", 1)
-    for name in ("round_hit", "element_hit", "hit_in_cell"):
+    for name in ("round_hit", "element_hit"):
         monkeypatch.setattr(thermo_events, name, getattr(thermo_events, name).py_func)
+    monkeypatch.setattr(thermo_flight, "element_hit", thermo_events.element_hit)
+    flight_py = types.ModuleType("thermo_flight_py")
+    for name in ("start", "state_at", "speed_bound", "element_exit", "face_exit", "line_exit"):
+        setattr(flight_py, name, getattr(thermo_flight, name).py_func)
+    hit_in_cell, walk_hit, _exact = search.event_search(flight_py, compile=lambda func: func)
+    return hit_in_cell, walk_hit
 
 
 def test_the_search_finds_the_disk_and_its_python_source_agrees():
@@ -65,13 +76,12 @@ def test_a_search_out_of_steps_says_so_at_every_layer(one_step):
     assert thermo_events.element_hit(table.kinds[disk], table.params[disk], fl, 0.0, 0.0, False, 0.0, math.inf,
                                      tol, E) == thermo_events.GAVE_UP
     kinds, params, copies, A, B = table.arrays()[:5]
-    t, e, *_cell = thermo_events.hit_in_cell(kinds, params, copies, A, 0, 0, fl, E, -1, 0, 0, math.inf, tol, 0.0,
-                                             False)
+    hit_in_cell, walk_hit = one_step
+    t, e, *_cell = hit_in_cell(kinds, params, copies, A, 0, 0, (fl, E), -1, 0, 0, math.inf, tol, 0.0, False)
     assert (t, e) == (thermo_events.GAVE_UP, thermo_events.SEARCH_FAILED)
     lattice = kernel_table(_scene(True))
     kinds, params, copies, A, B = lattice.arrays()[:5]
-    got = thermo_events.walk_hit.py_func(kinds, params, copies, A, B, fl, E, -1, 0, 0, math.inf, tol,
-                                         MAX_CELLS_PER_FLIGHT)
+    got = walk_hit(kinds, params, copies, A, B, (fl, E), -1, 0, 0, math.inf, tol, MAX_CELLS_PER_FLIGHT)
     assert got[1] == thermo_events.SEARCH_FAILED and got[4] == 3
 
 

@@ -90,9 +90,9 @@ def run_orbits(table, starts, *, max_collisions, max_time=math.inf, levels=None,
     args = (*table.arrays(), table.law, table.c, table.s, table.ax, table.ay, table.thermostat)
     if n:
         _load_orbit_kernel_first(flags, args, starts, max_time, levels, table.scale, mode, rec, mask, start_elements,
-                                 ceilings)
+                                 ceilings, table.magnetic)
     _kernel(flags)(*args, starts, start_elements, max_collisions, max_time, levels, table.scale, mode, rec, mask,
-                   final, ceilings)
+                   final, ceilings, table.magnetic)
     check_variant(final[:, F_VARIANT], flags)
     return final
 
@@ -101,7 +101,8 @@ _BUILDING = threading.Lock()
 _LOADED = set()
 
 
-def _load_orbit_kernel_first(flags, args, starts, max_time, levels, scale, mode, rec, mask, start_elements, ceilings):
+def _load_orbit_kernel_first(flags, args, starts, max_time, levels, scale, mode, rec, mask, start_elements, ceilings,
+                             W):
     """Compile or load the orbit kernel for this call's types before the batch kernel that calls it.
 
     A process that compiles the batch kernel compiles the orbit kernel first, and the batch's
@@ -121,7 +122,7 @@ def _load_orbit_kernel_first(flags, args, starts, max_time, levels, scale, mode,
         orbit = orbit_kernel(*flags)
         x, y, vx, vy, w = (float(value) for value in starts[0])
         orbit(*args, x, y, vx, vy, w, 0, max_time, levels[0], scale, mode, np.zeros_like(rec[0]), mask,
-              start_elements[0], ceilings[0])
+              start_elements[0], ceilings[0], W)
         _LOADED.add(key)
 
 

@@ -14,25 +14,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core import layout
+from ..core import layout, variant
 from ..elements import Arc, Circle, Line, Segment
 from .junctions import end_factors, junction_arrays
 from .lattice import disks_apart, lattice_matrix, reaching_copies
 from .memo import per_scene
-
-#: Why a compiled entry point refuses a scene with a magnetic field (``Scene.magnetic != 0``).
-MAGNETIC_REFUSAL = "magnetic scenes run in noslipsim.reference only until the compiled magnetic flight lands"
-
-
-def require_compiled_flight(scene):
-    """Refuse a scene whose flight the compiled event loop does not fly (a magnetic field), by name.
-
-    Every compiled entry point packs its scene here (:func:`kernel_table`), so
-    none of them can fly a magnetic scene as a straight line by mistake.
-    """
-    if scene.magnetic != 0.0:
-        raise ValueError(f"scene: magnetic = {scene.magnetic}: {MAGNETIC_REFUSAL}")
-
 
 #: Disks of a lattice run the lean loop (:attr:`KernelTable.disk_lattice`) when no two come within
 #: this gap, relative to the cell's size: far outside the corner rule's contact band
@@ -75,6 +61,9 @@ class KernelTable:
     thermostat : bool
         The force is flown with the Gaussian isokinetic thermostat
         (:mod:`noslipsim.core.thermostat`); false without a force.
+    magnetic : float
+        ``W``, the cyclotron frequency of a magnetic field normal to the table
+        (``Scene.magnetic``; :mod:`noslipsim.core.magnetic_flight`); 0 for none.
     mixed : bool
         The elements do not all share one law: the loop reads each element's
         (``layout.ELEMENT_LAW``); false compiles no code for it.
@@ -106,20 +95,29 @@ class KernelTable:
     thermostat: bool = False
     top: float = math.inf
     mixed: bool = False
+    magnetic: float = 0.0
 
     def variant(self, mode):
         """The compile-time flags of the event loop for this table and record mode.
 
-        ``(force, spin, lattice, mode, disks, walls, thermostat, mixed)``, each an
-        exact bool (the record mode an int): a scene without force never pays for
-        cubic or quartic exits, a specular one for spin updates, a plain one for
-        the cell walk, ``RECORD_NONE`` for the recorder, a table without long walls
-        for their exact check, a scene without the thermostat for thermostatted
-        flights, a table of one law for per-element laws
-        (:func:`noslipsim.core.loop.orbit_kernel`).
+        ``(force, spin, lattice, mode, disks, walls, flight, mixed)``, each an
+        exact bool (the record mode and the flight ints, :mod:`noslipsim.core.variant`):
+        a scene without force never pays for cubic or quartic exits, a specular one
+        for spin updates, a plain one for the cell walk, ``RECORD_NONE`` for the
+        recorder (a recording run reads its mode at run time, :func:`recording_slot`),
+        a table without long walls for their exact check, a scene
+        without the thermostat or a field for those flights, a table of one law
+        for per-element laws (:func:`noslipsim.core.loop.orbit_kernel`).
         """
-        return (self.has_force, self.noslip, self.lattice, int(mode), self.disk_lattice, self.long_walls,
-                self.thermostat, self.mixed)
+        return (self.has_force, self.noslip, self.lattice, recording_slot(mode), self.disk_lattice, self.long_walls,
+                self.flight, self.mixed)
+
+    @property
+    def flight(self):
+        """The flight's code (:mod:`noslipsim.core.variant`): free, thermostat or magnetic."""
+        if self.magnetic != 0.0:
+            return variant.MAGNETIC
+        return variant.THERMOSTAT if self.thermostat else variant.FREE
 
     @property
     def one_disk_per_cell(self):
@@ -130,6 +128,20 @@ class KernelTable:
         """The table's arguments of the kernels, in their order:
         ``(kinds, params, copies, A, B, lattice, jstart, jpts)``."""
         return self.kinds, self.params, self.copies, self.A, self.B, self.lattice, self.jstart, self.jpts
+
+
+def recording_slot(mode):
+    """The variant's ``mode`` slot for a record mode: ``RECORD_NONE`` fixed, any recording mode ``None``.
+
+    A run without records compiles no recorder.  The log and the portrait share one kernel that
+    reads the mode at run time: a branch per collision beside the record's own writes, and one
+    compile fewer per recording scene (the paper pipeline compiled each of its recording scenes
+    twice, benchmarks/RESULTS.md, "Compile time").
+    """
+    mode = int(mode)
+    if mode not in (layout.RECORD_NONE, layout.RECORD_LOG, layout.RECORD_PORTRAIT):
+        raise ValueError(f"mode: expected a record mode (layout.RECORD_*), got {mode!r}")
+    return mode if mode == layout.RECORD_NONE else None
 
 
 @per_scene
@@ -152,14 +164,7 @@ def placed_copies(scene):
 
 @per_scene
 def kernel_table(scene) -> KernelTable:
-    """The kernel table of ``scene`` as it is written (built on first use, kept while the scene lives).
-
-    Raises
-    ------
-    ValueError
-        The scene has a magnetic field (:func:`require_compiled_flight`).
-    """
-    require_compiled_flight(scene)
+    """The kernel table of ``scene`` as it is written (built on first use, kept while the scene lives)."""
     elements = scene.elements
     scale = scene.scale
     copies = scene_copies(scene)
@@ -184,7 +189,7 @@ def kernel_table(scene) -> KernelTable:
         noslip=layout.NOSLIP in laws, disk_lattice=not mixed and _disk_lattice(scene),
         long_walls=any(flag != 0.0 for flag in params[:, layout.LONG_WALL]),
         thermostat=has_force and scene.thermostat is not None, top=math.inf if scene.top is None else scene.top,
-        mixed=mixed)
+        mixed=mixed, magnetic=scene.magnetic)
 
 
 def _element_arrays(elements, placed, scale):
@@ -227,7 +232,7 @@ def _disk_lattice(scene):
     corner rule or extent test.  A table of mixed laws (:attr:`KernelTable.mixed`)
     never takes it: that loop knows one law.
     """
-    if scene.lattice is None or scene.force != (0.0, 0.0) or scene.top is not None:
+    if scene.lattice is None or scene.force != (0.0, 0.0) or scene.top is not None or scene.magnetic != 0.0:
         return False  # a bounded lattice runs the general loop, which knows the top
     if not all(isinstance(e, Circle) and e.side == "outside" for e in scene.elements):
         return False

@@ -30,19 +30,20 @@ def batch_kernel(flags=GENERAL):
     none); ``rec[i]`` receives orbit ``i``'s records; ``final[i]`` its summary
     (columns ``F_*``; ``F_VARIANT`` is what the orbit kernel that ran reports,
     :func:`variant.report`); ``ceilings[i]`` the top of a bounded lattice
-    relative to the start cell (``inf`` for none).  Other arguments as in
+    relative to the start cell (``inf`` for none); ``W`` the magnetic field's
+    cyclotron frequency (0 for none).  Other arguments as in
     :func:`loop.run_orbit`.
     """
     orbit = orbit_kernel(*flags)
 
     @jit
     def run_batch(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, thermostat, starts,
-                  start_elements, max_collisions, max_time, stop_below, scale, mode, rec, mask, final, ceilings):
+                  start_elements, max_collisions, max_time, stop_below, scale, mode, rec, mask, final, ceilings, W):
         for i in range(starts.shape[0]):
             n, stop, n_corner, n_rec, t, x, y, vx, vy, w, m1, m2, variant = orbit(
                 kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, thermostat,
                 starts[i, 0], starts[i, 1], starts[i, 2], starts[i, 3], starts[i, 4],
-                max_collisions, max_time, stop_below[i], scale, mode, rec[i], mask, start_elements[i], ceilings[i])
+                max_collisions, max_time, stop_below[i], scale, mode, rec[i], mask, start_elements[i], ceilings[i], W)
             row = final[i]
             row[F_N] = n
             row[F_STOP] = stop

@@ -361,8 +361,8 @@ def disk_lattice_kernel(spin=None, mode=None):
     @jit
     def run_disk_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, thermostat, x, y, vx, vy,
                        w, max_collisions, max_time, stop_below, scale, mode, rec, mask, start_element=-1,
-                       ceiling=math.inf):
-        """:func:`loop.run_orbit` for disks on a lattice without force (same arguments and outputs).
+                       ceiling=math.inf, W=0.0):
+        """:func:`loop.run_orbit` for disks on a lattice without force or field (same arguments and outputs).
 
         ``ceiling`` must be ``inf``: a bounded lattice (``Scene.top``) never runs this loop
         (:attr:`noslipsim._engine.table.KernelTable.disk_lattice` is false for it).

@@ -67,7 +67,10 @@ STOP_GRAZING = 5
 #: A thermostatted flight's circle search took ``thermo_events.MAX_STEPS`` conservative steps without
 #: deciding whether the circle is hit: the orbit stops there rather than fly on past a possible hit.
 STOP_SEARCH_LIMIT = 6
-STOP_REASONS = ("max_collisions", "max_time", "escape", "stop_below", "corner", "grazing", "search_limit")
+#: A magnetic orbit whose closed cyclotron path meets no element: it circles for ever (DynamicalBilliards.jl's
+#: "pinned").
+STOP_PINNED = 7
+STOP_REASONS = ("max_collisions", "max_time", "escape", "stop_below", "corner", "grazing", "search_limit", "pinned")
 
 #: What the event loop records per collision.
 RECORD_NONE = 0      # nothing: the final state is returned anyway

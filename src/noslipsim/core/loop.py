@@ -22,6 +22,7 @@ time is a running sum.
 import functools
 import math
 
+from . import magnetic_flight, thermo_flight
 from .cells import FAR_CELLS, far_hit_point, far_move, walk_hit
 from .disks import disk_lattice_kernel
 from .energy import SETTLE_EVERY, settle, settle_mode, settle_velocity, state_energy
@@ -43,21 +44,26 @@ from .layout import (
     STOP_LEVEL,
     STOP_MAX_COLLISIONS,
     STOP_MAX_TIME,
+    STOP_PINNED,
     STOP_SEARCH_LIMIT,
 )
+from .magnetic import period as magnetic_period
 from .records import record
 from .roots import quadratic_exit
-from .thermo_events import SEARCH_FAILED
-from .thermo_events import exact_line_hit as thermo_exact_line_hit
-from .thermo_events import hit_in_cell as thermo_hit_in_cell
-from .thermo_events import line_exit as thermo_line_exit
-from .thermo_events import walk_hit as thermo_walk_hit
-from .thermostat import drag, field, flight
-from .thermostat import state as thermo_state
+from .search import SEARCH_FAILED, event_search
+from .thermostat import drag, field
+from .thermostat import flight as thermo_path
 from .tolerances import CONTACT_TOL, EXTENT_TOL, JUNCTION_GATE, MAX_CELLS_PER_FLIGHT, MAX_CORNER_BOUNCES
-from .variant import variant_code
+from .variant import MAGNETIC, THERMOSTAT, normalise, variant_code
 
 INF = math.inf
+#: The closed-form flights' event searches (search.py), one per flight module.
+thermo_hit_in_cell, thermo_walk_hit, thermo_exact_line_hit = event_search(thermo_flight)
+magnetic_hit_in_cell, magnetic_walk_hit, magnetic_exact_line_hit = event_search(magnetic_flight)
+thermo_state = thermo_flight.state_at
+thermo_line_exit = thermo_flight.line_exit
+magnetic_state = magnetic_flight.state_at
+magnetic_line_exit = magnetic_flight.line_exit
 
 
 @jit
@@ -102,14 +108,14 @@ def _above_top(params, y, top):
     return y > top + reach
 
 
-def kernel_flags(has_force, noslip, lattice, mode, disks=False, walls=False, thermostat=False, mixed=False):
+def kernel_flags(has_force, noslip, lattice, mode, disks=False, walls=False, flight=0, mixed=False):
     """The variant key for a scene: what its kernel needs, fixed at compile time."""
-    return (bool(has_force), bool(noslip), bool(lattice), int(mode), bool(disks), bool(walls), bool(thermostat),
+    return (bool(has_force), bool(noslip), bool(lattice), int(mode), bool(disks), bool(walls), int(flight),
             bool(mixed))
 
 
 @functools.cache
-def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, walls=None, thermostat=None,
+def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, walls=None, flight=None,
                  mixed=None):
     """The event loop compiled for one kind of scene: a scene pays only for what it needs.
 
@@ -135,11 +141,16 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
     check's code alone, never run, cost such scenes 2 to 20 % (the Galton
     board the most; ``benchmarks/RESULTS.md``).
 
-    ``thermostat=True`` flies the force with the Gaussian isokinetic
-    thermostat (:mod:`thermostat`, :mod:`thermo_events`); ``False`` (or
-    ``force=False``) compiles no code of it: each of its branches opens with
-    the compile-time constant ``THERMO_ANY``, which numba prunes before typing
-    (and ``thermostat=True`` with ``force=True`` prunes the free fall likewise).
+    ``flight`` (:mod:`variant`): ``THERMOSTAT`` (or ``True``) flies the force
+    with the Gaussian isokinetic thermostat (:mod:`thermostat`,
+    :mod:`thermo_flight`), ``MAGNETIC`` turns the velocity at the cyclotron
+    frequency ``W`` of a field normal to the table (:mod:`magnetic_flight`;
+    never with a force), ``FREE`` (or ``False``) flies neither; ``None`` reads
+    the ``thermostat`` and ``W`` arguments.  A variant compiles no code of a
+    flight it cannot fly: each of their branches opens with a compile-time
+    constant (``THERMO_ANY``, ``MAG_ANY``), which numba prunes before typing
+    (and a fixed flight prunes the free fall likewise).  Both closed-form
+    flights search their events with :func:`search.event_search`.
 
     ``mixed=True`` (a table whose elements do not all share one law) gives each
     collision, the corner rule's included, the law of the element hit,
@@ -158,7 +169,9 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
             raise ValueError("orbit_kernel: the lean disk loop (disks=True) knows one law; a mixed table "
                              "(mixed=True) runs the general loop")
         return disk_lattice_kernel(spin, mode)
-    VARIANT = variant_code((force, spin, lattice, mode, disks, walls, thermostat, mixed))  # reported with results
+    VARIANT = variant_code((force, spin, lattice, mode, disks, walls, flight, mixed))  # reported with results
+    force, spin, lattice, mode, disks, walls, flight, mixed = normalise(force, spin, lattice, mode, disks, walls,
+                                                                        flight, mixed)
     FORCE_RT = force is None
     FORCE = bool(force)
     SPIN_RT = spin is None
@@ -170,9 +183,12 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
     MODE = RECORD_LOG if mode is None else int(mode)
     WALLS = walls is None or bool(walls)  # a compile-time constant: False drops the long-wall check
     # thermostatted flights: compiled in only where they may run (never without a force)
-    THERMO_ANY = force is not False and thermostat is not False
-    THERMO_ALWAYS = force is True and thermostat is True  # no free fall compiled at all
-    THERMO_RT = thermostat is None
+    THERMO_ANY = force is not False and (flight is None or flight == THERMOSTAT)
+    THERMO_ALWAYS = force is True and flight == THERMOSTAT  # no free fall compiled at all
+    THERMO_RT = flight is None
+    # magnetic flights: compiled in only where they may run (never with a force); at run time, W != 0
+    MAG_ANY = force is not True and (flight is None or flight == MAGNETIC)
+    MAG_ALWAYS = flight == MAGNETIC
     # per-element laws: compiled in only where a table may mix them
     MIXED_ANY = mixed is not False
     MIXED_ALWAYS = mixed is True
@@ -183,7 +199,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
 
     @jit
     def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, thermostat, x, y, vx, vy, w,
-                  max_collisions, max_time, stop_below, scale, mode, rec, mask, start_element=-1, ceiling=INF):
+                  max_collisions, max_time, stop_below, scale, mode, rec, mask, start_element=-1, ceiling=INF, W=0.0):
         """Run one orbit from a state strictly inside the table.
 
         Parameters
@@ -235,6 +251,10 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
             cell: element copies (circles) whose centre lies above it do not
             exist; ``inf`` (the default) for an unbounded lattice or a plain scene.
             Not supported with the thermostat (``Scene`` refuses the pair).
+        W : float
+            The cyclotron angular frequency of a magnetic field normal to the
+            table (``Scene.magnetic``; 0 for none; never with a force).  A
+            magnetic orbit whose closed path meets nothing stops ``pinned``.
 
         Returns
         -------
@@ -256,10 +276,16 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
             if thermo:
                 potential = False
                 E = field(ax, ay)[0]
+        mag = False
+        pin = INF  # a magnetic path is closed: what it has not met in one period it never meets
+        if MAG_ANY:
+            mag = MAG_ALWAYS or W != 0.0
+            if mag:
+                pin = magnetic_period(W)
         # the energy to keep (energy.settle), twice the start's (gamma = 0 keeps the spin's apart, as specular)
         mixes = law != SPECULAR and s != 0.0  # the spin takes part in the energy exchange (some no-slip element)
         e0 = state_energy(vx, vy, w, mixes, ax, ay, x, y, potential)[0]
-        how = settle_mode(potential, mixes, thermo)  # where a correction goes (energy.settle)
+        how = settle_mode(potential, mixes, thermo or mag)  # where a correction goes (energy.settle)
         t = 0.0
         cur_e = start_element
         cur_o1 = 0
@@ -283,25 +309,42 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 extent_tol = EXTENT_TOL * length
                 remaining = max_time - t
                 t_level = INF
+                pinned = False
                 if THERMO_ALWAYS or (THERMO_ANY and thermo):
-                    fl = flight(x, y, vx, vy, ax, ay)
+                    fl = (thermo_path(x, y, vx, vy, ax, ay), E)
                     if stop_below > -INF:
-                        t_level = thermo_line_exit(fl, y + oy - stop_below, 0.0, 1.0, 0.0, INF, False)
+                        t_level = thermo_line_exit(fl, y + oy - stop_below, 0.0, 1.0)
+                elif MAG_ALWAYS or (MAG_ANY and mag):
+                    mf = (x, y, vx, vy, W)
+                    if stop_below > -INF:
+                        t_level = magnetic_line_exit(mf, y + oy - stop_below, 0.0, 1.0)
                 elif stop_below > -INF:
                     t_level = quadratic_exit(y + oy - stop_below, vy, 0.5 * ay, INF)
                 if THERMO_ALWAYS or (THERMO_ANY and thermo):
                     if lattice:
                         limit = min(remaining, t_level)
-                        t_hit, e, o1, o2, status = thermo_walk_hit(kinds, params, copies, A, B, fl, E, cur_e, cur_o1,
+                        t_hit, e, o1, o2, status = thermo_walk_hit(kinds, params, copies, A, B, fl, cur_e, cur_o1,
                                                                    cur_o2, limit, extent_tol, MAX_CELLS_PER_FLIGHT)
                         escape = status == 2 or (status == 1 and limit == INF)
                     else:
-                        t_hit, e, o1, o2 = thermo_hit_in_cell(kinds, params, copies, A, 0, 0, fl, E, cur_e, cur_o1,
+                        t_hit, e, o1, o2 = thermo_hit_in_cell(kinds, params, copies, A, 0, 0, fl, cur_e, cur_o1,
                                                               cur_o2, INF, extent_tol, 0.0, False)
                         escape = e < 0
                     if e == SEARCH_FAILED:  # the circle search gave up: stop here, never fly past a hit
                         stop = STOP_SEARCH_LIMIT
                         break
+                elif MAG_ALWAYS or (MAG_ANY and mag):
+                    escape = False
+                    if lattice:  # the walk follows one period at most
+                        limit = min(remaining, t_level, pin)
+                        t_hit, e, o1, o2, status = magnetic_walk_hit(kinds, params, copies, A, B, mf, cur_e, cur_o1,
+                                                                     cur_o2, limit, extent_tol, MAX_CELLS_PER_FLIGHT)
+                        escape = status == 2
+                        pinned = status == 1 and limit == pin
+                    else:
+                        t_hit, e, o1, o2 = magnetic_hit_in_cell(kinds, params, copies, A, 0, 0, mf, cur_e, cur_o1,
+                                                                cur_o2, INF, extent_tol, 0.0, False)
+                        pinned = e < 0
                 elif LATTICE_ALWAYS or (LATTICE_RT and lattice):
                     limit = min(remaining, t_level)
                     if ceiling < INF and vy >= 0.0 and ay >= 0.0 and _above_top(params, y, ceiling - oy):
@@ -320,6 +363,8 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 if t_level < INF and t_level <= t_hit and t_level <= remaining:
                     if THERMO_ALWAYS or (THERMO_ANY and thermo):
                         x, y, vx, vy = thermo_state(fl, t_level)
+                    elif MAG_ALWAYS or (MAG_ANY and mag):
+                        x, y, vx, vy = magnetic_state(mf, t_level)
                     else:
                         x, y, vx, vy = advance(x, y, vx, vy, ax, ay, t_level, has_force)
                     y = stop_below - oy
@@ -329,9 +374,14 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 if escape:
                     stop = STOP_ESCAPE
                     break
+                if pinned:  # a closed cyclotron path that meets nothing: it circles for ever
+                    stop = STOP_PINNED
+                    break
                 if e < 0 or t_hit > remaining:
                     if THERMO_ALWAYS or (THERMO_ANY and thermo):
                         x, y, vx, vy = thermo_state(fl, remaining)
+                    elif MAG_ALWAYS or (MAG_ANY and mag):
+                        x, y, vx, vy = magnetic_state(mf, remaining)
                     else:
                         x, y, vx, vy = advance(x, y, vx, vy, ax, ay, remaining, has_force)
                     t = max_time
@@ -340,6 +390,8 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 # relocate onto the element copy, then resolve the collision
                 if THERMO_ALWAYS or (THERMO_ANY and thermo):
                     hx, hy, vx_in, vy_in = thermo_state(fl, t_hit)
+                elif MAG_ALWAYS or (MAG_ANY and mag):
+                    hx, hy, vx_in, vy_in = magnetic_state(mf, t_hit)
                 else:
                     hx, hy, vx_in, vy_in = advance(x, y, vx, vy, ax, ay, t_hit, has_force)
                 kind = kinds[e]
@@ -349,7 +401,7 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 ry = hy - sy
                 # a straight flight's far hit: eps x flight length (under a force no far hit comes here: the walk
                 # reports it as an escape with a finite time, and the outer loop moves the start near it)
-                far = lattice and not has_force and max(abs(o1), abs(o2)) >= FAR_CELLS
+                far = lattice and not has_force and not mag and max(abs(o1), abs(o2)) >= FAR_CELLS
                 if far:
                     rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
                 px, py, nx, ny = place_on_element(kind, p, rx, ry)
@@ -357,6 +409,11 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                     if WALLS and p[LONG_WALL] != 0.0:
                         t_hit, px, py, vx_in, vy_in = thermo_exact_line_hit(
                             kind, p, fl, sx, sy, e == cur_e and o1 == cur_o1 and o2 == cur_o2, t_hit, rx, ry, px, py,
+                            vx_in, vy_in)
+                elif MAG_ALWAYS or (MAG_ANY and mag):
+                    if WALLS and p[LONG_WALL] != 0.0:
+                        t_hit, px, py, vx_in, vy_in = magnetic_exact_line_hit(
+                            kind, p, mf, sx, sy, e == cur_e and o1 == cur_o1 and o2 == cur_o2, t_hit, rx, ry, px, py,
                             vx_in, vy_in)
                 elif WALLS and p[LONG_WALL] != 0.0 and not far:  # a long line or segment: eps x distance along it
                     t_hit, px, py, vx_in, vy_in = exact_line_hit(
@@ -401,7 +458,8 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 cur_o1 = o1
                 cur_o2 = o2
                 # corner rule: other element copies touched here that the particle would leave through;
-                # a thermostatted flight leaves a contact with its acceleration there, F - alpha v
+                # a thermostatted flight leaves a contact with its acceleration there, F - alpha v, a magnetic one
+                # with W J v
                 aex = ax
                 aey = ay
                 bounces = 0
@@ -409,6 +467,8 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 while near and n < max_collisions:
                     if THERMO_ALWAYS or (THERMO_ANY and thermo):
                         aex, aey = drag(vx, vy, ax, ay)
+                    elif MAG_ALWAYS or (MAG_ANY and mag):
+                        aex, aey = -W * vy, W * vx
                     j, o1, o2 = _contact(kinds, params, copies, A, lattice, x, y, vx, vy, aex, aey,
                                          cur_e, cur_o1, cur_o2, CONTACT_TOL * length, ceiling - oy)
                     if j < 0:
@@ -442,6 +502,8 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
                 sx, sy = copy_shift(A, cur_o1, cur_o2, lattice)
                 if THERMO_ALWAYS or (THERMO_ANY and thermo):
                     aex, aey = drag(vx, vy, ax, ay)
+                elif MAG_ALWAYS or (MAG_ANY and mag):
+                    aex, aey = -W * vy, W * vx
                 if slides_off(kinds[cur_e], params[cur_e], x - sx, y - sy, vx, vy, aex, aey):
                     stop = STOP_GRAZING
                     break

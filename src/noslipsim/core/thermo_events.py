@@ -39,11 +39,11 @@ derivatives (deflation, as for polynomials).
 """
 import math
 
-from .events import starts_at_open_end
-from .geometry import LINE_GATE, copy_shift, element_box, extent_position, lattice_coordinates, line_value_exact
+from .geometry import extent_position
 from .jit import jit
-from .layout import ARC, END_END, END_START, LINE, SEGMENT
+from .layout import ARC, LINE, SEGMENT
 from .roots import linear_exit, quadratic_exit
+from .search import GAVE_UP, SEARCH_FAILED  # noqa: F401  (re-exported: the give-up codes of the search)
 from .thermostat import displacement, drag, state
 from .tolerances import ROOT_MAX_ITER
 
@@ -57,10 +57,6 @@ EPS = 2.220446049250313e-16
 #: cell search the element :data:`SEARCH_FAILED`, the cell walk the status 3, and the event loop
 #: stops the orbit with ``layout.STOP_SEARCH_LIMIT`` ("search_limit") where it stands.
 MAX_STEPS = 100_000
-#: The time :func:`round_hit` (and :func:`element_hit`) returns when it gave up after MAX_STEPS steps.
-GAVE_UP = -1.0
-#: The element :func:`hit_in_cell` (and :func:`walk_hit`) returns when a search in it gave up.
-SEARCH_FAILED = -2
 #: Bracket doublings for the last, unbounded piece of a line (each doubles the time window).
 MAX_DOUBLINGS = 2100
 
@@ -257,21 +253,6 @@ def face_exit(fl, f0, nx, ny, t_in):
     return _exit_from(fl, f0, n1, n2, nv, t_in, fa, fa > 0.0, INF, tc)
 
 
-@jit
-def strip_exit(fl, alpha0, bx, by, d, t_in):
-    """First time ``>= t_in`` at which ``alpha(t) = alpha0 + (bx, by) . (q(t) - q(0))`` leaves ``[d - 1/2, d + 1/2]``.
-
-    Returns ``(t, step)``: ``+1`` through the upper face, ``-1`` through the lower, ``(inf, 0)`` if never.
-    """
-    t_up = face_exit(fl, d + 0.5 - alpha0, -bx, -by, t_in)
-    t_dn = face_exit(fl, alpha0 - (d - 0.5), bx, by, t_in)
-    if t_up <= t_dn and t_up < INF:
-        return t_up, 1
-    if t_dn < INF:
-        return t_dn, -1
-    return INF, 0
-
-
 # ---------------------------------------------------------------------------- circles and arcs
 @jit(inline="always")
 def _first_root(g, g1, m):
@@ -463,123 +444,3 @@ def element_hit(kind, p, fl, sx, sy, deflate, lo, hi, extent_tol, E):
                 return INF
         return t
     return round_hit(kind, p, fl, sx, sy, lo, hi, deflate, extent_tol, E)
-
-
-@jit
-def hit_in_cell(kinds, params, copies, A, d1, d2, fl, E, cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, shifted):
-    """Earliest hit in ``(t_in, hi]`` over the copies that reach cell ``(d1, d2)`` (:func:`events.hit_in_cell`).
-
-    The copy just hit is searched from ``t = 0`` with its root there removed, and
-    so is a segment or arc whose open end the flight starts at (the reflex-vertex
-    rule of :func:`events.hit_in_cell`).
-    Copies out of reach in the window (farther than ``c (hi - t_in)`` from
-    the position at ``t_in``) are skipped.  Returns ``(t, element, o1, o2)``,
-    ``(inf, -1, 0, 0)`` (no hit) or ``(GAVE_UP, SEARCH_FAILED, 0, 0)`` (a search gave up).
-    """
-    bounded = hi < INF
-    xi = 0.0
-    yi = 0.0
-    reach = INF
-    if bounded:
-        xi, yi = state(fl, t_in)[:2]
-        reach = fl[4] * (hi - t_in) * (1.0 + 1e-9) + extent_tol
-    best_t = hi
-    best_e = -1
-    best_o1 = 0
-    best_o2 = 0
-    for k in range(copies.shape[0]):
-        e = copies[k, 0]
-        o1 = copies[k, 1] + d1
-        o2 = copies[k, 2] + d2
-        sx, sy = copy_shift(A, o1, o2, shifted)
-        if e == cur_e and o1 == cur_o1 and o2 == cur_o2:
-            t = element_hit(kinds[e], params[e], fl, sx, sy, True, 0.0, best_t, extent_tol, E)
-        else:
-            if bounded:
-                ex0, ey0, ex1, ey1 = element_box(kinds[e], params[e])
-                if (ex0 + sx > xi + reach or ex1 + sx < xi - reach
-                        or ey0 + sy > yi + reach or ey1 + sy < yi - reach):
-                    continue
-            t = element_hit(kinds[e], params[e], fl, sx, sy, False, t_in, best_t, extent_tol, E)
-            if (0.0 <= t <= best_t and t < INF and (kinds[e] == SEGMENT or kinds[e] == ARC)
-                    and (params[e, END_START] < 1.0 or params[e, END_END] < 1.0)
-                    and starts_at_open_end(kinds[e], params[e], fl[0] - sx, fl[1] - sy, extent_tol)):
-                # the root t = 0 at an open end is exact: no collision (events.hit_in_cell)
-                t = element_hit(kinds[e], params[e], fl, sx, sy, True, 0.0, best_t, extent_tol, E)
-        if t < 0.0:  # a search gave up: the earliest hit is unknown
-            return GAVE_UP, SEARCH_FAILED, 0, 0
-        if t < best_t or (best_e < 0 and t == best_t and t < INF):
-            best_t = t
-            best_e = e
-            best_o1 = o1
-            best_o2 = o2
-    if best_e < 0:
-        return INF, -1, 0, 0
-    return best_t, best_e, best_o1, best_o2
-
-
-@jit
-def walk_hit(kinds, params, copies, A, B, fl, E, cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells):
-    """Earliest hit of a thermostatted flight in a periodic scene (:func:`cells.walk_hit`).
-
-    The lattice coordinates ``alpha(t) = B[0] . q(t)``, ``beta(t) = B[1] . q(t)``
-    are line functionals of the path: each strip exit is a :func:`face_exit`.
-    Returns ``(t, element, o1, o2, status)``, status 0 hit, 1 past ``t_limit``,
-    2 past ``max_cells`` cells, 3 a circle search gave up (:data:`MAX_STEPS`).
-    """
-    a0, b0 = lattice_coordinates(B, fl[0], fl[1])
-    d1 = 0
-    d2 = 0
-    t_in = 0.0
-    ta, sa = strip_exit(fl, a0, B[0, 0], B[0, 1], 0, 0.0)
-    tb, sb = strip_exit(fl, b0, B[1, 0], B[1, 1], 0, 0.0)
-    for _ in range(max_cells):
-        t_out = min(ta, tb)
-        t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, fl, E, cur_e, cur_o1, cur_o2, t_out,
-                                   extent_tol, t_in, True)
-        if e >= 0:
-            return t, e, o1, o2, 0
-        if e == SEARCH_FAILED:
-            return GAVE_UP, SEARCH_FAILED, 0, 0, 3
-        if t_out >= t_limit:
-            return INF, -1, 0, 0, 1
-        if ta == t_out:
-            d1 += sa
-            ta, sa = strip_exit(fl, a0, B[0, 0], B[0, 1], d1, t_out)
-        if tb == t_out:
-            d2 += sb
-            tb, sb = strip_exit(fl, b0, B[1, 0], B[1, 1], d2, t_out)
-        t_in = t_out
-    return INF, -1, 0, 0, 2
-
-
-@jit
-def exact_line_hit(kind, p, fl, sx, sy, deflated, t, hx, hy, px, py, vxi, vyi):
-    """:func:`events.exact_line_hit` for a thermostatted flight: a hit far along a long wall, redone exactly.
-
-    ``(hx, hy)`` is the hit point relative to the copy, ``(px, py)`` its plain
-    projection.  Where the start's distance cancelled the exit root is solved
-    again from its exact value; where the projection's error exceeds the
-    gate, the point is projected with the exact distance.  Returns
-    ``(t, px, py, vx, vy)``.
-    """
-    nx = p[2]
-    ny = p[3]
-    x = fl[0] - sx
-    y = fl[1] - sy
-    a = (x - p[0]) * nx
-    b = (y - p[1]) * ny
-    ha = (hx - p[0]) * nx
-    hb = (hy - p[1]) * ny
-    cancelled = not deflated and abs(a) + abs(b) > LINE_GATE * abs(a + b)
-    if not cancelled and abs(ha) + abs(hb) <= LINE_GATE * max(abs(hx), abs(hy)):
-        return t, px, py, vxi, vyi
-    if cancelled:
-        t2 = line_exit(fl, line_value_exact(kind, p, x, y), nx, ny, 0.0, INF, False)
-        if t2 < INF:
-            t = t2
-            qx, qy, vxi, vyi = state(fl, t)
-            hx = qx - sx
-            hy = qy - sy
-    d = line_value_exact(kind, p, hx, hy)
-    return t, hx - d * nx, hy - d * ny, vxi, vyi

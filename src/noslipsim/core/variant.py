@@ -1,8 +1,10 @@
 """Kernel variants: the compile-time flags of the event loop, and the number a kernel reports them by.
 
-A variant is the tuple ``(force, spin, lattice, mode, disks, walls, thermostat, mixed)``
+A variant is the tuple ``(force, spin, lattice, mode, disks, walls, flight, mixed)``
 (:func:`loop.orbit_kernel`): each slot ``True``/``False`` (a record mode for
-``mode``), or ``None`` for "read from the arguments at run time".  Every orbit
+``mode``, a flight code for ``flight``: :data:`FREE` (straight, or free fall
+under the force), :data:`THERMOSTAT` or :data:`MAGNETIC`; ``False``/``True``
+read as the first two), or ``None`` for "read from the arguments at run time".  Every orbit
 kernel returns :func:`report` of the variant it was compiled for, a constant
 of its machine code; the caller compares it with :func:`report` of the variant
 it asked for and refuses a result from any other kernel (a wrong entry in the
@@ -11,27 +13,46 @@ compile cache, however it got there).
 from .jit import SOURCE_STAMP
 
 #: Names of the slots, in order.
-SLOTS = ("force", "spin", "lattice", "mode", "disks", "walls", "thermostat", "mixed")
+SLOTS = ("force", "spin", "lattice", "mode", "disks", "walls", "flight", "mixed")
 #: The general path: every flag read at run time.
 GENERAL = (None, None, None, None, None, None, None, None)
 #: The record modes a ``mode`` slot may hold (``layout.RECORD_*``).
 MODES = (0, 1, 2)
+#: The flights a ``flight`` slot may hold: the force's own (a straight line without one, a parabola
+#: with it), the isokinetic thermostat's (needs a force), the magnetic field's (never with a force).
+FREE = 0
+THERMOSTAT = 1
+MAGNETIC = 2
+FLIGHTS = ("free", "thermostat", "magnetic")
 
 _RUNTIME = 3  # digit of a slot left to run time
 
 
-def normalise(force=None, spin=None, lattice=None, mode=None, disks=None, walls=None, thermostat=None,
+def normalise(force=None, spin=None, lattice=None, mode=None, disks=None, walls=None, flight=None,
               mixed=None):
     """The variant as the kernel it selects sees it.
 
     The disk loop (``disks=True``) has no force, walks a lattice, has no
     walls and one law whatever the other slots say, so those slots are fixed
-    there; a loop without force has no thermostat.
+    there; a loop without force has no thermostat, a magnetic one no force.
     """
     if disks:
-        return False, _flag(spin), True, _mode(mode), True, False, False, False
-    thermostat = False if force is False else _flag(thermostat)
-    return _flag(force), _flag(spin), _flag(lattice), _mode(mode), False, _flag(walls), thermostat, _flag(mixed)
+        return False, _flag(spin), True, _mode(mode), True, False, FREE, False
+    flight = _flight(flight)
+    if flight == MAGNETIC:
+        force = False
+    elif force is False and flight == THERMOSTAT:
+        flight = FREE
+    return _flag(force), _flag(spin), _flag(lattice), _mode(mode), False, _flag(walls), flight, _flag(mixed)
+
+
+def _flight(value):
+    if value is None:
+        return None
+    if int(value) not in range(len(FLIGHTS)):
+        raise ValueError(f"flight: expected one of {tuple(range(len(FLIGHTS)))} ({', '.join(FLIGHTS)}) or None, "
+                         f"got {value!r}")
+    return int(value)
 
 
 def _flag(value):
@@ -68,6 +89,15 @@ def describe(reported):
     for _ in SLOTS:
         digits.append(code % 4)
         code //= 4
-    parts = [f"{name}={'runtime' if d == _RUNTIME else (d if name == 'mode' else bool(d))}"
-             for name, d in zip(SLOTS, reversed(digits))]
+    parts = [f"{name}={_digit_text(name, d)}" for name, d in zip(SLOTS, reversed(digits))]
     return f"{', '.join(parts)} (core sources {stamp:08x})"
+
+
+def _digit_text(name, digit):
+    if digit == _RUNTIME:
+        return "runtime"
+    if name == "mode":
+        return str(digit)
+    if name == "flight":
+        return FLIGHTS[digit]
+    return str(bool(digit))

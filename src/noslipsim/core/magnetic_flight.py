@@ -1,0 +1,97 @@
+"""The magnetic field as a flight of the event search (:mod:`search`): ``F = (x, y, vx, vy, W)``.
+
+The path is the cyclotron arc of :mod:`magnetic` (speed and spin kept, the velocity turning at the
+rate ``W``), which meets each line or circle at most once per period, at its exit root, or never.
+So every answer here is one closed-form root: an element's exit from the state where the window
+opens, a lattice face's or a level's exit from the functional ``f0 + n . (q(t) - q(0))``, whose
+quadratic in the tangent half-angle is the line's (:func:`magnetic.line_coefficients`) with its own
+``c0``.  No search, no step: nothing here can give up.
+"""
+import math
+
+from .geometry import extent_position
+from .jit import jit
+from .layout import ARC, LINE, SEGMENT
+from .magnetic import advance, circle_exit, exit_time
+from .magnetic import line_exit as _line_element_exit
+
+INF = math.inf
+
+
+@jit(inline="always")
+def start(F):
+    """``(x, y)`` at the collision."""
+    return F[0], F[1]
+
+
+@jit(inline="always")
+def state_at(F, t):
+    """``(x, y, vx, vy)`` at time ``t``."""
+    return advance(F[0], F[1], F[2], F[3], F[4], t)
+
+
+@jit(inline="always")
+def speed_bound(F):
+    """The speed, kept in flight."""
+    return math.hypot(F[2], F[3])
+
+
+@jit
+def element_exit(kind, p, F, sx, sy, deflate, lo, hi, extent_tol):
+    """The exit root in ``(lo, hi]`` through the element copy shifted by ``(sx, sy)``, within its extent, or inf.
+
+    Solved from the state at ``lo`` (``deflate`` only with ``lo = 0``): the next exit after ``lo``,
+    as a closed path meets an element at one root per period.
+    """
+    x, y, vx, vy, W = F
+    if lo > 0.0:
+        x, y, vx, vy = advance(x, y, vx, vy, W, lo)
+    x -= sx
+    y -= sy
+    if kind == LINE or kind == SEGMENT:  # layout normals point into the table; magnetic's out of it
+        t = _line_element_exit(x, y, vx, vy, W, p[0], p[1], -p[2], -p[3], deflate)
+    else:
+        t = circle_exit(x, y, vx, vy, W, p[0], p[1], p[2], p[3], deflate)
+    if t == INF:
+        return INF
+    if kind == SEGMENT or kind == ARC:
+        hx, hy = advance(x, y, vx, vy, W, t)[:2]
+        if extent_position(kind, p, hx, hy, extent_tol) < 0:
+            return INF
+    t += lo
+    return t if t <= hi else INF
+
+
+@jit(inline="always")
+def _functional_exit(f, m0, nx, ny, vx, vy, W):
+    """Time of the first exit of ``f + n . (q(t) - q(0))`` from the state ``(vx, vy)`` where it is ``f``
+    (``m0``: the size of the terms ``f`` was formed from); :func:`magnetic.line_coefficients` with ``c0 = f``."""
+    a = nx * vx + ny * vy
+    b = ny * vx - nx * vy  # n . J v
+    m1 = abs(nx * vx) + abs(ny * vy)
+    c2 = W * (0.5 * b + 0.25 * W * f)
+    m2 = abs(W) * (0.5 * (abs(ny * vx) + abs(nx * vy)) + 0.25 * abs(W) * m0)
+    return exit_time(f, a, c2, m0, m1, m2, W, False)
+
+
+@jit
+def face_exit(F, f0, nx, ny, t_in):
+    """First time ``>= t_in`` at which ``f0 + n . (q(t) - q(0))`` (positive inside) leaves; ``t_in`` when on or
+    past the face then and moving out (or along it and turning out)."""
+    x0, y0, vx, vy, W = F
+    f = f0
+    m0 = abs(f0)
+    if t_in != 0.0:
+        qx, qy, vx, vy = advance(x0, y0, vx, vy, W, t_in)
+        f = f0 + (nx * (qx - x0) + ny * (qy - y0))
+        m0 += abs(nx) * (abs(qx) + abs(x0)) + abs(ny) * (abs(qy) + abs(y0))
+    rate = nx * vx + ny * vy
+    if f <= 0.0 and (rate < 0.0 or (rate == 0.0 and W * (ny * vx - nx * vy) < 0.0)):
+        return t_in
+    return t_in + _functional_exit(f, m0, nx, ny, vx, vy, W)
+
+
+@jit
+def line_exit(F, f0, nx, ny):
+    """The first exit root in ``(0, inf)`` of ``f0 + n . (q(t) - q(0))`` (a level, a long wall's exact distance)."""
+    return _functional_exit(f0, abs(f0), nx, ny, F[2], F[3], F[4])
