@@ -12,7 +12,7 @@ import pytest
 import xarray as xr
 
 from noslipsim import simulate_many, tables
-from noslipsim.analysis import attractor_labels, islands, orbit_period, portrait_attractors
+from noslipsim.analysis import attractor_census, attractor_labels, islands, orbit_period, portrait_attractors
 from noslipsim.analysis.attractors import ATTRACTOR_TOLERANCE
 from noslipsim.analysis.portraits import boundary_coordinate
 
@@ -65,7 +65,12 @@ def test_labels_group_orbits_on_the_same_cycle_whatever_their_phase():
               contracting_orbit(CYCLE, 300, phase=0), contracting_orbit(other, 300, phase=2)]
     periods = [orbit_period(x) for x in orbits]
     assert periods == [3, 7, 7, 0, 7, 3]
-    assert list(attractor_labels(orbits, periods)) == [1, 0, 0, -1, 0, 1]
+    labels = attractor_labels(orbits, periods)
+    assert list(labels) == [1, 0, 0, -1, 0, 1]
+    assert attractor_census(periods, labels) == [(7, 3), (3, 2)]
+    assert attractor_census([0, 0], [-1, -1]) == []
+    with pytest.raises(ValueError, match="period exactly"):
+        attractor_census([3, 0], [-1, -1])
 
 
 @pytest.mark.parametrize("bad", [{"tolerance": 0.0}, {"tolerance": math.nan}, {"repeats": 0},

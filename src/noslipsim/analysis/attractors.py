@@ -34,7 +34,8 @@ import numpy as np
 from .._metadata import annotate
 from .._validate import count, positive
 
-__all__ = ["ATTRACTOR_REPEATS", "ATTRACTOR_TOLERANCE", "attractor_labels", "orbit_period", "portrait_attractors"]
+__all__ = ["ATTRACTOR_REPEATS", "ATTRACTOR_TOLERANCE", "attractor_census", "attractor_labels", "orbit_period",
+           "portrait_attractors"]
 
 #: Largest distance (max norm over the coordinates) at which two recorded states count as the same.
 #: Coordinates of order one; a cycle reached by contraction sits at rounding level, 1e-12 and below,
@@ -155,6 +156,30 @@ def attractor_labels(orbits, periods, *, tolerance=ATTRACTOR_TOLERANCE, wrap=Non
     order = sorted(range(len(cycles)), key=lambda a: (-len(members[a]), members[a][0]))
     rank = {a: r for r, a in enumerate(order)}
     return np.array([rank[a] if a >= 0 else -1 for a in found], dtype=int)
+
+
+def attractor_census(periods, labels):
+    """The attractors of one case, most populated first: ``[(period, orbits on it), ...]``.
+
+    Parameters
+    ----------
+    periods, labels : array_like of int, (orbit,)
+        ``attractor_period`` and ``attractor`` of one case (:func:`portrait_attractors`).
+
+    Returns
+    -------
+    list of (int, int)
+        One pair per attractor in label order (0 first); empty when no orbit
+        ends on a cycle.
+    """
+    periods, labels = np.asarray(periods, dtype=int), np.asarray(labels, dtype=int)
+    if periods.shape != labels.shape or periods.ndim != 1:
+        raise ValueError(f"periods, labels: expected two 1-D arrays of one shape, got {periods.shape}, "
+                         f"{labels.shape}")
+    found = labels >= 0
+    if np.any(periods[found] <= 0) or np.any(periods[~found] != 0):
+        raise ValueError("periods, labels: an orbit has a period exactly when it has an attractor")
+    return [(int(periods[labels == a][0]), int(np.sum(labels == a))) for a in range(int(labels.max(initial=-1)) + 1)]
 
 
 def portrait_attractors(ds, *, tolerance=ATTRACTOR_TOLERANCE, repeats=ATTRACTOR_REPEATS):
