@@ -101,12 +101,21 @@ def test_in_the_sinai_torus_only_the_head_on_orbit_is_periodic():
     g0 = islands.head_on_onset_gamma(0.3)
     head_on = ((0.5, 0.0), (1.0, 0.0), 0.0)                 # 2-periodic between the disks at x = 0 and 1
     nudged = ((0.5, 0.001), (1.0, 0.001), 0.001)            # on the island above the onset, chaotic below
-    above = portrait_attractors(torus_portrait(g0 + 0.1, [head_on, nudged]))
+    cases = [torus_portrait(g0 + 0.1, [head_on, nudged]),
+             torus_portrait(g0 - 0.1, [nudged, ((0.5, 0.2), (0.6, 0.8), 0.3)])]
+    above = portrait_attractors(cases[0])
     assert list(above.attractor_period.values) == [2, 0]
     assert list(above.attractor.values) == [0, -1]
-    below = portrait_attractors(torus_portrait(g0 - 0.1, [nudged, ((0.5, 0.2), (0.6, 0.8), 0.3)]))
+    below = portrait_attractors(cases[1])
     assert list(below.attractor_period.values) == [0, 0]
     assert above.attrs["attractor_tolerance"] == ATTRACTOR_TOLERANCE
+    # case by case along two case dimensions, whatever order each variable's dims are stored in
+    both = xr.concat(cases, dim="gamma", join="outer", fill_value=np.nan)
+    both = xr.concat([both, both], dim="force")
+    both["w_unit"] = both.w_unit.transpose("gamma", "force", "orbit", "point")     # s_boundary: force first
+    found = portrait_attractors(both)
+    assert found.attractor_period.dims == ("force", "gamma", "orbit")
+    assert found.attractor_period.values.tolist() == [[[2, 0], [0, 0]]] * 2
 
 
 def test_a_portrait_dataset_is_required():

@@ -209,9 +209,9 @@ def portrait_attractors(ds, *, tolerance=ATTRACTOR_TOLERANCE, repeats=ATTRACTOR_
         raise ValueError(f"ds: not a portrait dataset, missing {missing}")
     tolerance = positive(tolerance, "tolerance")
     repeats = count(repeats, "repeats")
-    states = np.stack([ds[k].transpose(..., "orbit", "point").values for k in ("s_boundary", "vt_unit", "w_unit")],
-                      axis=-1)
     case_dims = [d for d in ds.s_boundary.dims if d not in ("orbit", "point")]
+    order = (*case_dims, "orbit", "point")      # one order for the three, whatever each was stored in
+    states = np.stack([ds[k].transpose(*order).values for k in ("s_boundary", "vt_unit", "w_unit")], axis=-1)
     length = ds.boundary_length.broadcast_like(ds.s_boundary.isel(orbit=0, point=0)).transpose(*case_dims).values
     period = np.zeros(states.shape[:-2], dtype=int)
     label = np.full(states.shape[:-2], -1, dtype=int)
