@@ -278,3 +278,15 @@ def test_twin_refuses_bad_input():
             islands.twin_lyapunov(scene, q, v, **kwargs)
     with pytest.raises(ValueError, match="shapes"):
         islands.twin_lyapunov(scene, q, v + v)
+
+
+def test_threshold_sensitivity_is_the_share_at_each_fraction_of_the_threshold():
+    lam = np.array([0.005, 0.015, 0.025, 0.5, np.nan])      # one orbit between each pair of thresholds
+    shares = islands.threshold_sensitivity(lam, 0.03)
+    assert list(shares) == [0.01, 0.02, 0.03]               # the keys print as typed
+    assert list(shares.values()) == [0.25, 0.5, 0.75]
+    assert shares[0.03] == islands.regular_share(lam, 0.03)[0]
+    per_row = islands.threshold_sensitivity(np.vstack([lam, lam[::-1]]), 0.03, fractions=(0.5,))
+    assert np.array_equal(per_row[0.015], [0.25, 0.25])
+    with pytest.raises(ValueError, match="fractions"):
+        islands.threshold_sensitivity(lam, 0.03, fractions=(0.0,))

@@ -8,6 +8,7 @@ import pytest
 from noslipsim import Scene, simulate, tables
 from noslipsim.analysis import islands
 from noslipsim.experiments import (
+    DISSIPATIVE_READINGS,
     HEX_READINGS,
     hex_force_portraits,
     hex_force_readings,
@@ -143,11 +144,12 @@ def test_hex_readings_are_the_tables_they_claim():
         scene, disk = hex_reading_scene(reading, 0.4, 1.0, 2.0)
         assert scene.elements[disk].radius == 0.4 and scene.force == (0.0, -2.0)
         assert (scene.lattice is None) == (reading in ("closed", "specular_walls"))
-        assert scene.element_laws[disk] == "no-slip"  # the disk is no-slip in every reading
+        # the disk is no-slip in every reading of Figure 13, specular in the gas the caption compares with
+        assert scene.element_laws[disk] == ("specular" if reading == "specular_thermostat" else "no-slip")
         walls = {law for i, law in enumerate(scene.element_laws) if i != disk}
         assert walls <= ({"specular"} if reading == "specular_walls" else {"no-slip"})
         assert scene.mixed_laws == (reading == "specular_walls")
-        assert (scene.thermostat == "isokinetic") == (reading == "thermostat")
+        assert (scene.thermostat == "isokinetic") == (reading in DISSIPATIVE_READINGS)
     assert hex_reading_scene("periodic", 0.4, 1.0, 0.0)[0].force == (0.0, 0.0)
 
 
@@ -184,6 +186,28 @@ def test_hex_force_readings_tiny_and_what_tells_them_apart():
                 {"n_orbits": 0}):
         with pytest.raises(ValueError):
             hex_force_readings(**bad)
+
+
+def test_hex_force_readings_find_the_attracting_cycles_of_the_thermostatted_gas():
+    """At g = 8 the no-slip gas at gamma = 1 ends on 3-cycles (a mirror pair) and the specular gas on one
+    2-cycle (measured over 100 orbits at paper size); the closed cell conserves phase volume and is not searched."""
+    ds = hex_force_readings(gammas=(1 / math.sqrt(2), 1.0), forces=(8.0,),
+                            readings=("closed", "thermostat", "specular_thermostat"), n_orbits=6,
+                            lyapunov_collisions=100, attractor_collisions=600, seed=14)
+    assert ds.attractor_period.dims == ("reading", "gamma", "force", "orbit")
+    assert ds.attrs["attractor_collisions"] == 600
+    no_slip = ds.sel(reading="thermostat", gamma=1.0, force=8.0)
+    assert (no_slip.attractor_period == 3).all() and set(no_slip.attractor.values) <= {0, 1}
+    specular = ds.sel(reading="specular_thermostat", force=8.0)
+    assert (specular.attractor_period == 2).all() and (specular.attractor == 0).all()
+    # gamma plays no part in the specular gas: one run, repeated along gamma
+    assert np.array_equal(specular.ftle.isel(gamma=0), specular.ftle.isel(gamma=1))
+    closed = ds.sel(reading="closed")
+    assert (closed.attractor_period == 0).all() and (closed.attractor == -1).all()
+    assert "attractor_period" not in hex_force_readings(gammas=(1.0,), forces=(0.0,), readings=("closed",),
+                                                        n_orbits=2, lyapunov_collisions=20)
+    with pytest.raises(ValueError, match="attractor_collisions"):
+        hex_force_readings(attractor_collisions=0)
 
 
 def test_islands_sweep_shares_agree_with_its_exponents_and_the_theory():

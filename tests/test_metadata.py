@@ -113,7 +113,7 @@ EXPERIMENTS = {
     "hex_force_portraits": lambda: ex.hex_force_portraits((G,), (0.0, 0.1), n_orbits=3, n_collisions=20,
                                                           lyapunov_collisions=20, **TINY),
     "hex_force_readings": lambda: ex.hex_force_readings((G,), (0.0, 1.0), readings=("closed", "thermostat"),
-                                                        n_orbits=2, lyapunov_collisions=12),
+                                                        n_orbits=2, lyapunov_collisions=12, attractor_collisions=9),
     "polygon_portraits": lambda: ex.polygon_portraits((4, 5), n_orbits=3, n_collisions=20, **TINY),
     "lemon_sinai_portraits": lambda: ex.lemon_sinai_portraits(n_orbits=3, n_collisions=20, lyapunov_collisions=20,
                                                               **TINY),

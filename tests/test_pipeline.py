@@ -209,8 +209,15 @@ def check_portraits_hex_force(ds):
 
 def check_portraits_hex_readings(ds):
     assert ds.ftle.dims == ("reading", "gamma", "force", "orbit")
-    assert set(ds.reading.values) <= {"closed", "specular_walls", "periodic", "thermostat"}
+    assert set(ds.reading.values) <= {"closed", "specular_walls", "periodic", "thermostat", "specular_thermostat"}
     assert np.isfinite(ds.ftle).mean() > 0.9                # NaN only for an orbit that stopped (corner)
+    if "attractor_period" in ds:                            # cycles only where the flow contracts phase volume
+        free_fall = [r for r in ds.reading.values if r not in ("thermostat", "specular_thermostat")]
+        assert (ds.attractor_period.sel(reading=free_fall) == 0).all()
+        assert ((ds.attractor >= 0) == (ds.attractor_period > 0)).all()
+    if "specular_thermostat" in ds.reading.values:          # a specular disk: gamma plays no part
+        gas = ds.ftle.sel(reading="specular_thermostat")
+        assert np.array_equal(gas.isel(gamma=0), gas.isel(gamma=-1), equal_nan=True)
     if "specular_walls" in ds.reading.values and ds.sizes["gamma"] > 1:   # the disk is no-slip: gamma matters
         walls = ds.ftle.sel(reading="specular_walls")
         assert not np.array_equal(walls.isel(gamma=0), walls.isel(gamma=-1))

@@ -212,6 +212,11 @@ VARIABLES = {
     "share_regular_stderr": ("binomial standard error of share_regular", "1"),
     "n_regular": ("orbits with ftle below regular_threshold", "1"),
     "n_valid": ("orbits with an exponent", "1"),
+    # ------------------------------------------------ analysis: attracting cycles (analysis.attractors)
+    "attractor_period": ("recorded collisions per cycle of the attracting periodic orbit the orbit ends on "
+                         "(0: none within the dataset's attractor_tolerance)", "1"),
+    "attractor": ("which attracting periodic orbit the orbit ends on, numbered by the orbits it holds, most "
+                  "first (-1: none)", "1"),
     "onset_gamma": ("smallest gamma with share_regular >= the dataset's visible_share (linear interpolation)", "1"),
     "onset_gamma_stderr": ("bootstrap standard deviation of onset_gamma", "1"),
     "onset_gamma_low": ("16th percentile of the bootstrap onsets", "1"),

@@ -47,14 +47,16 @@ KERNELS = {
     # portraits (lemon, polygons, closed hexagonal cell), first flights (none), Lyapunov runs and twin
     # orbits (log); the Sinai torus and the force-free hexagonal gas are "disks", the hexagonal gas under a
     # force "lattice+force" (free fall) or "lattice+thermostat" (Figure 13's readings, Figure S3); the closed
-    # cell of specular walls around the no-slip disk (Figure S3's reading specular_walls) "mixed(+force)"
+    # cell of specular walls around the no-slip disk (Figure S3's reading specular_walls) "mixed(+force)";
+    # the specular thermostatted gas beside them (Figure S3's specular_thermostat) "lattice+thermostat:specular"
     "portraits": [f"{table}:{law}:{record}" for table, law in (("plain", "specular"), ("plain", "no-slip"),
                                                                 ("plain+force", "no-slip"),
                                                                 ("plain+force", "specular"),
                                                                 ("mixed", "no-slip"), ("mixed+force", "no-slip"),
                                                                 ("disks", "no-slip"),
                                                                 ("lattice+force", "no-slip"),
-                                                                ("lattice+thermostat", "no-slip"))
+                                                                ("lattice+thermostat", "no-slip"),
+                                                                ("lattice+thermostat", "specular"))
                   for record in ("portrait", "none", "log")],
 }
 ALL_KERNELS = sorted({entry for entries in KERNELS.values() for entry in entries})

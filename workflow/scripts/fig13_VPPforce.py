@@ -1,5 +1,8 @@
 """Figure 13: velocity portraits of a disk in a hexagonal cell, gamma = 1/sqrt 2 and 1, no/small/strong force.
 
+Each panel gives its regular share at three thresholds and rings the attracting cycles its orbits end on
+(analysis.attractors), with their periods in disk collisions.
+
 The table is the reading the config chooses (portraits.hex_force.reading; docs/figures.md, "Figure 13",
 and Figure S3 give the evidence).
 """
@@ -11,9 +14,10 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+import numpy as np
 
 from noslipsim import plot
-from noslipsim.analysis import classify_regular
+from noslipsim.analysis import attractor_census, classify_regular, portrait_attractors, threshold_sensitivity
 
 ROWS = ("no force", "small force", "strong force")
 TABLES = {"closed": "a closed hexagonal cell (no-slip walls)",
@@ -21,7 +25,28 @@ TABLES = {"closed": "a closed hexagonal cell (no-slip walls)",
           "periodic": "the periodic hexagonal cell (free fall)",
           "thermostat": "the periodic hexagonal cell (isokinetic thermostat)"}
 
-ds = classify_regular(plot.load_figure_data(snakemake.input.portraits), snakemake.params.threshold)
+threshold = snakemake.params.threshold
+ds = portrait_attractors(classify_regular(plot.load_figure_data(snakemake.input.portraits), threshold))
+CYCLE_MARKERS = ("o", "s", "^", "D", "v")   # one per attracting cycle of a panel, most populated first
+
+
+def shares_text(case):
+    """The regular share at the threshold and below it, highest threshold first."""
+    shares = threshold_sensitivity(case.ftle.values, threshold)
+    return "regular " + " / ".join(f"{100 * p:.0f}" for p in reversed(shares.values())) + " %"
+
+
+def draw_cycles(ax, case):
+    """Ring the points of each attracting cycle and list the cycles' periods (orbits on each)."""
+    found = attractor_census(case.attractor_period.values, case.attractor.values)
+    for a, (period, _) in enumerate(found[:len(CYCLE_MARKERS)]):
+        last = case.isel(orbit=int(np.argmax(case.attractor.values == a)))   # an orbit on the cycle: its last period
+        end = int(last.n_points)
+        ax.scatter(last.vt_unit.values[end - period:end], last.w_unit.values[end - period:end], s=9,
+                   marker=CYCLE_MARKERS[a], facecolors="none", edgecolors="k", linewidths=0.4, zorder=5)
+    if found:
+        listed = ", ".join(f"{p} ({k})" for p, k in found[:3]) + (", ..." if len(found) > 3 else "")
+        ax.text(0.02, 0.02, f"cycles: {listed}", transform=ax.transAxes, fontsize=5, va="bottom")
 reading = ds.attrs["reading"]
 n_force, n_gamma = ds.sizes["force"], ds.sizes["gamma"]
 increasing = list(ds.force.values) == sorted(ds.force.values)
@@ -37,7 +62,8 @@ for i, g in enumerate(ds.force.values):
         ax = axes[i, j]
         case = ds.isel(force=i, gamma=j)
         plot.draw_layered_portrait(ax, case, case.regular, size=0.1)
-        share = f"regular {float(case.regular.mean()):.1%}"
+        draw_cycles(ax, case)
+        share = shares_text(case)
         ax.set_title(f"$\\gamma$ = {gamma:.3g}\n{share}" if i == 0 else share)
         if j == 0:   # the force's direction only on rows that have a force
             arrow = " $\\downarrow$" if g > 0 else ""
@@ -48,11 +74,14 @@ for i, g in enumerate(ds.force.values):
             ax.set_xlabel("")
 inset, text = head.subplots(1, 2, width_ratios=[1, 3.5])
 periodic = reading in ("periodic", "thermostat")
+thresholds = list(threshold_sensitivity([], threshold))
 plot.draw_table(inset, ds.scene.values.flat[0], window=(-0.75, 0.75, -0.65, 0.65) if periodic else None,
                 linewidth=0.5)
 inset.set_axis_off()
 text.set_axis_off()
 text.text(0.0, 0.5, f"disk of radius {ds.attrs['radius']:g} in {TABLES.get(reading, reading)};\nforce (0, $-g$) "
           f"per unit mass, unit start speed;\npoints: collisions with the disk, {ds.attrs['n_collisions']:,} per "
-          f"orbit", fontsize=7, va="center", ha="left", transform=text.transAxes)
+          f"orbit; regular: exponent below\n" + " / ".join(f"{t:g}" for t in reversed(thresholds)) + " per "
+          "collision; rings: attracting cycles, period (orbits)", fontsize=7, va="center", ha="left",
+          transform=text.transAxes)
 plot.save_figure(fig, snakemake.output.pdf)  # writes the .pdf and the .png beside it

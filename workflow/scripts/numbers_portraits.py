@@ -1,5 +1,6 @@
 """The paper's portrait numbers, computed: the gamma at which islands appear in the no-slip Sinai torus, and
-Figure 13's readings (the share of regular orbits against the force, the kinetic energy in free fall)."""
+Figure 13's readings (the share of regular orbits against the force and its threshold sensitivity, the
+attracting cycles of the thermostatted gas, the kinetic energy in free fall, the horizon of the lattice)."""
 import json
 import math
 import sys
@@ -9,7 +10,9 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np
 import xarray as xr
 
-from noslipsim.analysis.islands import islands_onsets, onset_gamma, regular_share
+from noslipsim.analysis import attractor_census, portrait_attractors
+from noslipsim.analysis.islands import islands_onsets, onset_gamma, regular_share, threshold_sensitivity
+from noslipsim.experiments import DISSIPATIVE_READINGS
 from noslipsim.plot.numbers import significant
 
 # Each value is kept to the digits its computation determines (docs/figures.md, "Which numbers and figures are the
@@ -81,5 +84,97 @@ for cell in ("closed", "periodic"):
         value=significant(strong.sel(cell=cell).median(), STATISTIC), format=".3g",
         note=f"max {float(strong.sel(cell=cell).max()):.3g}; {strong.sizes['orbit']} orbits per gamma, both gammas "
              "pooled; why free fall in the periodic gas is not Figure 13's reading")
+
+
+# ---------------------------------------------------------------- Figure 13's panels: thresholds and cycles
+def percents(values):
+    return " / ".join(f"{100 * p:.0f}" for p in values)
+
+
+def cycles_text(periods, labels):
+    found = attractor_census(periods, labels)
+    return ", ".join(f"{p} ({k})" for p, k in found) if found else "none"
+
+
+panels = portrait_attractors(drawn)
+ladder = list(threshold_sensitivity([], threshold))[::-1]          # 0.03, 0.02, 0.01: highest first
+numbers["hex_fig13_regular_thresholds"] = dict(
+    description="Figure 13's panels: share of regular orbits (%) with exponent below "
+                + " / ".join(f"{t:g}" for t in ladder) + " per collision",
+    value="; ".join(f"γ = {gm:.3g}, g = {g:g}: "
+                    + percents(list(threshold_sensitivity(panels.ftle.sel(gamma=gm, force=g).values,
+                                                          threshold).values())[::-1])
+                    for gm in panels.gamma.values for g in panels.force.values),
+    note=f"{panels.sizes['orbit']} orbits per panel, twin-orbit exponents over {drawn.attrs['lyapunov_collisions']:,} "
+         "collisions; where the shares differ the exponents straddle the line")
+for gm in panels.gamma.values:
+    lam = panels.ftle.sel(gamma=gm).isel(force=-1).values
+    tag = f"{gm:.3g}"
+    numbers[f"hex_fig13_strong_exponents_gamma{tag}"] = dict(
+        description=f"Figure 13, γ = {tag}, strong force g = {float(panels.force[-1]):g}: 5th to 95th percentile of "
+                    "the finite-time exponents per collision",
+        value=" to ".join(f"{q:.3f}" for q in np.nanpercentile(lam, [5, 95])),
+        note=f"median {np.nanmedian(lam):.3f}; regular threshold {threshold:g}")
+    case = panels.sel(gamma=gm).isel(force=-1)
+    numbers[f"hex_fig13_strong_on_cycle_gamma{tag}"] = dict(
+        description=f"Figure 13, γ = {tag}, strong force g = {float(panels.force[-1]):g}: share of orbits that end "
+                    "on an attracting periodic orbit (analysis.attractors)",
+        value=significant(float((case.attractor_period > 0).mean()), STATISTIC), format=".0%",
+        note="cycles, period in disk collisions (orbits): " + cycles_text(case.attractor_period.values,
+                                                                          case.attractor.values))
+numbers["hex_fig13_cycles"] = dict(
+    description="Figure 13's panels: attracting periodic orbits, period in disk collisions (orbits on it)",
+    value="; ".join(f"γ = {gm:.3g}, g = {g:g}: " + cycles_text(panels.attractor_period.sel(gamma=gm, force=g).values,
+                                                              panels.attractor.sel(gamma=gm, force=g).values)
+                    for gm in panels.gamma.values for g in panels.force.values),
+    note=f"{drawn.attrs['n_collisions']:,} disk collisions per orbit; a cycle repeats "
+         f"{panels.attrs['attractor_repeats']} times more within {panels.attrs['attractor_tolerance']:g}; "
+         "the mirror x -> -x maps a cycle to a cycle of the same period")
+
+# ---------------------------------------------------------------- Figure S3: cycles and thresholds against g
+if "attractor_period" in readings:
+    for i, reading in enumerate(map(str, readings.reading.values)):
+        case = readings.isel(reading=i)
+        if reading not in DISSIPATIVE_READINGS:     # searched only where the flow contracts phase volume
+            continue
+        rows = "; ".join(f"γ = {gm:.3g}: " + percents((case.attractor_period.sel(gamma=gm) > 0).mean("orbit").values)
+                         for gm in readings.gamma.values)
+        top = "; ".join(f"γ = {gm:.3g}, g = {g:g}: " + cycles_text(case.attractor_period.sel(gamma=gm, force=g).values,
+                                                                   case.attractor.sel(gamma=gm, force=g).values)
+                        for gm in readings.gamma.values for g in forces
+                        if (case.attractor_period.sel(gamma=gm, force=g) > 0).any())
+        numbers[f"hex_on_cycle_share_{reading}"] = dict(
+            description=f"{readings.reading_table.values[i]}: share of orbits (%) that end on an attracting periodic "
+                        f"orbit at g = {force_list}",
+            value=rows, note=f"{readings.attrs['attractor_collisions']:,} disk collisions per orbit; cycles, period "
+                             f"(orbits): {top or 'none'}; Figure S3, bottom row")
+    names = [str(r) for r in readings.reading.values]
+    if chosen in names:
+        chosen_i = names.index(chosen)
+        ladder_shares = threshold_sensitivity(readings.ftle.values[chosen_i], threshold)   # (gamma, force) each
+        numbers[f"hex_regular_share_{chosen}_thresholds"] = dict(
+            description=f"Figure 13's reading, share of regular orbits (%) at g = {force_list} for the exponent "
+                        "thresholds " + ", ".join(f"{t:g}" for t in ladder_shares),
+            value="; ".join(f"γ = {gm:.3g}, {t:g}: " + percents(p[j]) for j, gm in enumerate(readings.gamma.values)
+                            for t, p in ladder_shares.items()),
+            note=f"{readings.attrs['n_orbits']} orbits per point over {readings.attrs['lyapunov_collisions']:,} "
+                 "collisions; Figure S3's band")
+
+# ---------------------------------------------------------------- the horizon of the lattice
+radius = float(drawn.attrs["radius"])
+numbers["hex_finite_horizon_radius"] = dict(
+    description="unit triangular lattice: the smallest disk radius with a finite horizon (√3/4: the rows of disks "
+                "along a lattice direction, √3/2 apart, close their corridor)",
+    value=significant(math.sqrt(3) / 4, CLOSED_FORM), format=".4f", note="closed form, no simulation")
+numbers["hex_corridor_width"] = dict(
+    description=f"width of the open corridors (along the three lattice directions, none along the field) at Figure "
+                f"13's radius {radius:g}: √3/2 − 2R",
+    value=significant(math.sqrt(3) / 2 - 2 * radius, CLOSED_FORM), format=".3f", note="closed form, no simulation")
+for g in drawn.force.values[drawn.force.values > 0]:
+    numbers[f"hex_thermostat_drift_bound_g{g:g}"] = dict(
+        description=f"isokinetic thermostat, field g = {g:g}: bound π v²/g on the drift across the field during one "
+                    "flight (speed v <= 1)",
+        value=significant(math.pi / g, CLOSED_FORM), format=".3g",
+        note="closed form: the heading turns towards the field at the rate (g/v) sin of its angle to it")
 with open(snakemake.output.numbers, "w") as fh:
     json.dump(numbers, fh, indent=1, ensure_ascii=False)

@@ -1,4 +1,4 @@
-"""Dataset of Figure S3: finite-time exponents of Figure 13's four readings against the force strength."""
+"""Dataset of Figure S3: exponents and attracting cycles of Figure 13's readings against the force strength."""
 import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)

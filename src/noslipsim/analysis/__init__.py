@@ -1,8 +1,9 @@
-"""What orbits do: periodic orbits, linear stability, stability grids, Lyapunov exponents, portraits.
+"""What orbits do: periodic orbits, linear stability, stability grids, Lyapunov exponents, portraits, attractors.
 
 Above :mod:`noslipsim.simulate` and :mod:`noslipsim.ensemble`, below
 :mod:`noslipsim.experiments`.  Coordinates and derivations: docs/analysis.md.
 """
+from .attractors import attractor_census, attractor_labels, orbit_period, portrait_attractors
 from .galton import arrival_curve, excess_kurtosis
 from .islands import (
     classify_regular,
@@ -12,6 +13,7 @@ from .islands import (
     islands_onsets,
     onset_gamma,
     regular_share,
+    threshold_sensitivity,
     twin_lyapunov,
     uniform_reduced_states,
 )
@@ -31,12 +33,11 @@ from .stability import agreement_share, elliptic_boundary, stability_grid, stabi
 from .tangent import CornerError
 
 __all__ = [
-    "CornerError", "Monodromy", "PeriodicOrbit", "agreement_share", "arrival_curve", "birkhoff_coordinates",
-    "birkhoff_states", "bounce_orbit", "boundary_coordinate", "classify_regular", "elliptic_boundary",
-    "excess_kurtosis", "find_periodic_orbit", "finite_time_lyapunov", "head_on_onset_gamma", "interior_starts",
-    "islands_onsets", "lyapunov",
-    "monodromy", "onset_gamma", "reduced_portrait", "reduced_states", "regular_share", "stability_grid",
-    "stability_grid_theta", "twin_lyapunov", "two_disk_classes", "two_disk_orbit", "uniform_reduced_states",
-    "velocity_portrait",
-    "wedge_noforce_orbit", "wedge_orbit",
+    "CornerError", "Monodromy", "PeriodicOrbit", "agreement_share", "arrival_curve", "attractor_census",
+    "attractor_labels", "birkhoff_coordinates", "birkhoff_states", "bounce_orbit", "boundary_coordinate",
+    "classify_regular", "elliptic_boundary", "excess_kurtosis", "find_periodic_orbit", "finite_time_lyapunov",
+    "head_on_onset_gamma", "interior_starts", "islands_onsets", "lyapunov", "monodromy", "onset_gamma",
+    "orbit_period", "portrait_attractors", "reduced_portrait", "reduced_states", "regular_share", "stability_grid",
+    "stability_grid_theta", "threshold_sensitivity", "twin_lyapunov", "two_disk_classes", "two_disk_orbit",
+    "uniform_reduced_states", "velocity_portrait", "wedge_noforce_orbit", "wedge_orbit",
 ]

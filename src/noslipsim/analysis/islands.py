@@ -78,6 +78,7 @@ __all__ = [
     "interior_starts",
     "onset_gamma",
     "regular_share",
+    "threshold_sensitivity",
     "twin_lyapunov",
     "uniform_reduced_states",
 ]
@@ -450,6 +451,39 @@ def regular_share(ftle, threshold=REGULAR_THRESHOLD, axis=-1):
     if np.ndim(p) == 0:
         return float(p), float(err), int(n)
     return p, err, n
+
+
+#: Fractions of the threshold at which the regular share is also reported (0.01, 0.02, 0.03 of the default):
+#: an orbit near the line moves with it, a clear split does not (docs/analysis.md).
+SENSITIVITY_FRACTIONS = (1 / 3, 2 / 3, 1.0)
+
+
+def threshold_sensitivity(ftle, threshold=REGULAR_THRESHOLD, fractions=SENSITIVITY_FRACTIONS, axis=-1):
+    """The regular share at several thresholds below ``threshold``: how much it depends on the line drawn.
+
+    Parameters
+    ----------
+    ftle : array_like
+        Finite-time exponents (NaN entries are left out).
+    threshold : float
+        The reference threshold (> 0).
+    fractions : sequence of float
+        Fractions of ``threshold`` (each > 0).
+    axis : int
+        The axis along the orbits.
+
+    Returns
+    -------
+    dict
+        ``{threshold * fraction: share}`` in the order of ``fractions``, each
+        share as :func:`regular_share` gives it (a float for 1-D input).
+    """
+    threshold = positive(threshold, "threshold")
+    out = {}
+    for f in fractions:
+        t = positive(f, "fractions") * threshold
+        out[float(np.round(t, 12))] = regular_share(ftle, t, axis=axis)[0]   # rounded: 0.01, not 0.009999...
+    return out
 
 
 def _crossing(gammas, shares, level):

@@ -19,6 +19,7 @@ from .orbits import (
     two_disk_box_orbits,
 )
 from .portraits import (
+    DISSIPATIVE_READINGS,
     HEX_READINGS,
     hex_force_portraits,
     hex_force_readings,
@@ -41,6 +42,7 @@ EXPERIMENTS = {f.__name__: f for f in (
 )}
 
 __all__ = [
+    "DISSIPATIVE_READINGS",
     "EXPERIMENTS",
     "HEX_READINGS",
     "bounce_orbits",

@@ -16,6 +16,7 @@ from .. import tables
 from .._metadata import annotate
 from .._validate import count
 from ..analysis import islands
+from ..analysis.attractors import ATTRACTOR_REPEATS, ATTRACTOR_TOLERANCE, portrait_attractors
 from ..analysis.portraits import birkhoff_coordinates, boundary_coordinate
 from ..ensemble import simulate_many
 from ..scenes import Scene
@@ -252,7 +253,11 @@ HEX_READINGS = {
     "specular_walls": "closed hexagonal cell, specular walls around a no-slip disk, free fall",
     "periodic": "periodic hexagonal cell (the Lorentz gas), no-slip disk, free fall",
     "thermostat": "periodic hexagonal cell (the Lorentz gas), no-slip disk, isokinetic thermostat",
+    "specular_thermostat": "periodic hexagonal cell (the Lorentz gas), specular disk, isokinetic thermostat",
 }
+
+#: Readings whose flow contracts phase volume (the thermostat): only they can have attracting cycles.
+DISSIPATIVE_READINGS = ("thermostat", "specular_thermostat")
 
 
 def hex_reading_scene(reading, radius, gamma, g):
@@ -265,7 +270,9 @@ def hex_reading_scene(reading, radius, gamma, g):
     ``periodic``: :func:`noslipsim.tables.hex_lorentz_cell` (element 0);
     ``thermostat``: the same with ``thermostat = 'isokinetic'`` (the speed is
     kept, the force turns the heading; with no force the thermostat is inert:
-    the straight flights, bit for bit).
+    the straight flights, bit for bit); ``specular_thermostat``: the same with a
+    specular disk (``gamma`` plays no part), the driven Lorentz gas of the
+    specular results the paper's caption calls analogous.
     """
     if reading not in HEX_READINGS:
         raise ValueError(f"reading: expected one of {sorted(HEX_READINGS)}, got {reading!r}")
@@ -273,8 +280,9 @@ def hex_reading_scene(reading, radius, gamma, g):
     if reading in ("closed", "specular_walls"):
         wall_law = "specular" if reading == "specular_walls" else None
         return tables.closed_hex_cell(radius, gamma=gamma, force=force, wall_law=wall_law), 6
-    scene = tables.hex_lorentz_cell(radius, gamma=gamma, force=force)
-    return (scene.replace(thermostat="isokinetic") if reading == "thermostat" else scene), 0
+    law = "specular" if reading == "specular_thermostat" else "no-slip"
+    scene = tables.hex_lorentz_cell(radius, law=law, gamma=gamma, force=force)
+    return (scene.replace(thermostat="isokinetic") if reading in DISSIPATIVE_READINGS else scene), 0
 
 
 def _forces(forces):
@@ -338,20 +346,43 @@ def hex_force_portraits(gammas=(1 / math.sqrt(2), 1.0), forces=(0.0, 0.1, 4.0), 
     return annotate(ds)
 
 
+def _reading_case(reading, radius, gamma, g, n_orbits, lyapunov_collisions, attractor_collisions, seed,
+                  num_workers):
+    """Exponents of one case of :func:`hex_force_readings`, and its orbits' attracting cycles (or None)."""
+    scene, disk = hex_reading_scene(reading, radius, gamma, g)
+    start = islands.interior_starts(scene, islands.uniform_reduced_states(scene, n_orbits, seed, elements=[disk]))
+    lam = islands.twin_lyapunov(scene, start["positions"], start["velocities"], start["spins"],
+                                n_collisions=lyapunov_collisions, seed=seed, num_workers=num_workers)
+    if attractor_collisions is None or reading not in DISSIPATIVE_READINGS:
+        return lam, None
+    # the same starts (portrait_set draws them as above), recorded on the disk long enough for long cycles
+    drawn = portrait_set([scene], [g], dim="force", n_orbits=n_orbits, n_collisions=attractor_collisions, seed=seed,
+                         elements=[disk], num_workers=num_workers)
+    found = portrait_attractors(drawn).isel(force=0)
+    return lam, (found.attractor_period.values, found.attractor.values)
+
+
 def hex_force_readings(gammas=(1 / math.sqrt(2), 1.0), forces=(0.0, 0.1, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0), *,
-                       readings=tuple(HEX_READINGS), radius=0.4, n_orbits=100, lyapunov_collisions=1000, seed=0,
-                       num_workers=None, progress=False):
-    r"""Finite-time exponents of Figure 13's four readings against the force (Figure S3).
+                       readings=tuple(HEX_READINGS), radius=0.4, n_orbits=100, lyapunov_collisions=1000,
+                       attractor_collisions=None, seed=0, num_workers=None, progress=False):
+    r"""Finite-time exponents of Figure 13's readings against the force (Figure S3), and attracting cycles.
 
     For each reading of :data:`HEX_READINGS`, gamma and force strength ``g``
     (force ``(0, -g)``), ``n_orbits`` starts on the disk uniform in the
-    invariant measure of the force-free map (``ds dv_t dw``: the disk is no-slip in every reading;
-    the same scaled draws everywhere, as in Figure 13) and each orbit's
-    finite-time exponent per collision over ``lyapunov_collisions`` collisions
-    from a twin orbit (:func:`noslipsim.analysis.twin_lyapunov`).
+    invariant measure of the force-free map (``ds dv_t dw`` on a no-slip disk,
+    ``ds dp`` on the specular one; the same scaled draws everywhere, as in
+    Figure 13) and each orbit's finite-time exponent per collision over
+    ``lyapunov_collisions`` collisions from a twin orbit
+    (:func:`noslipsim.analysis.twin_lyapunov`).
     :func:`noslipsim.analysis.regular_share` turns them into the share of
     regular orbits, the quantity the caption's "structure", "dissipates" and
-    "new invariant regions" are about.
+    "new invariant regions" are about.  In the thermostatted readings
+    (:data:`DISSIPATIVE_READINGS`, the only ones whose flow contracts phase
+    volume) a regular orbit may instead have fallen onto an attracting cycle:
+    with ``attractor_collisions`` the same starts are followed that many disk
+    collisions and :func:`noslipsim.analysis.portrait_attractors` names the
+    cycle each ends on.  The specular reading does not depend on gamma: it is
+    run once and repeated along ``gamma``.
 
     Parameters
     ----------
@@ -365,6 +396,8 @@ def hex_force_readings(gammas=(1 / math.sqrt(2), 1.0), forces=(0.0, 0.1, 0.5, 1.
         Disk radius (unit triangular lattice; ``(0, 1/2)``).
     n_orbits, lyapunov_collisions : int
         Orbits per case and collisions per exponent.
+    attractor_collisions : int, optional
+        Disk collisions recorded per orbit to find attracting cycles (None: not looked for).
     seed : int
         Seed of the starts and of the twins.
     num_workers : int, optional
@@ -375,7 +408,9 @@ def hex_force_readings(gammas=(1 / math.sqrt(2), 1.0), forces=(0.0, 0.1, 0.5, 1.
     Returns
     -------
     xarray.Dataset
-        Dims ``(reading, gamma, force, orbit)``: ``ftle``; ``reading_table`` per
+        Dims ``(reading, gamma, force, orbit)``: ``ftle``; with
+        ``attractor_collisions``, ``attractor_period`` and ``attractor`` (0 and
+        -1 in the readings without a thermostat); ``reading_table`` per
         reading (a description).
     """
     gammas = gamma_values(gammas)
@@ -385,27 +420,37 @@ def hex_force_readings(gammas=(1 / math.sqrt(2), 1.0), forces=(0.0, 0.1, 0.5, 1.
         raise ValueError(f"readings: expected distinct names among {sorted(HEX_READINGS)}, got {readings}")
     n_orbits = count(n_orbits, "n_orbits")
     lyapunov_collisions = count(lyapunov_collisions, "lyapunov_collisions", minimum=9)
-    lam = np.full((len(readings), len(gammas), len(forces), n_orbits), np.nan)
+    if attractor_collisions is not None:
+        attractor_collisions = count(attractor_collisions, "attractor_collisions", minimum=3)
+    shape = (len(readings), len(gammas), len(forces), n_orbits)
+    lam, period, label = np.full(shape, np.nan), np.zeros(shape, dtype=int), np.full(shape, -1)
     for i, reading in enumerate(readings):
         for j, gm in enumerate(gammas):
             for k, g in enumerate(forces):
-                scene, disk = hex_reading_scene(reading, radius, gm, g)
-                start = islands.interior_starts(scene, islands.uniform_reduced_states(scene, n_orbits, seed,
-                                                                                     elements=[disk]))
-                lam[i, j, k] = islands.twin_lyapunov(scene, start["positions"], start["velocities"], start["spins"],
-                                                     n_collisions=lyapunov_collisions, seed=seed,
-                                                     num_workers=num_workers)
+                if reading == "specular_thermostat" and j > 0:   # gamma plays no part in a specular reading
+                    lam[i, j, k], period[i, j, k], label[i, j, k] = lam[i, 0, k], period[i, 0, k], label[i, 0, k]
+                    continue
+                lam[i, j, k], cycles = _reading_case(reading, radius, gm, g, n_orbits, lyapunov_collisions,
+                                                     attractor_collisions, seed, num_workers)
+                if cycles is not None:
+                    period[i, j, k], label[i, j, k] = cycles
                 if progress:
                     print(f"hex_force_readings: {reading}, gamma = {gm:g}, g = {g:g}: median exponent "
                           f"{np.nanmedian(lam[i, j, k]):.3f}", file=sys.stderr, flush=True)
-    ds = xr.Dataset({"ftle": (("reading", "gamma", "force", "orbit"), lam),
-                     "reading_table": ("reading", [HEX_READINGS[r] for r in readings])},
-                    coords={"reading": readings, "gamma": gammas, "force": forces, "orbit": np.arange(n_orbits)})
+    dims = ("reading", "gamma", "force", "orbit")
+    data = {"ftle": (dims, lam), "reading_table": ("reading", [HEX_READINGS[r] for r in readings])}
+    if attractor_collisions is not None:
+        data.update(attractor_period=(dims, period), attractor=(dims, label))
+    ds = xr.Dataset(data, coords={"reading": readings, "gamma": gammas, "force": forces,
+                                  "orbit": np.arange(n_orbits)})
     ds.attrs.update(title="finite-time exponents of Figure 13's readings against the force", radius=radius,
                     n_orbits=n_orbits, lyapunov_collisions=lyapunov_collisions, lyapunov_method="twin", seed=seed,
+                    attractor_collisions=-1 if attractor_collisions is None else attractor_collisions,
                     force_direction="(0, -g)",
                     sampling="starts on the disk uniform in the force-free invariant measure (the same scaled draws "
                              "everywhere)")
+    if attractor_collisions is not None:
+        ds.attrs.update(attractor_tolerance=ATTRACTOR_TOLERANCE, attractor_repeats=ATTRACTOR_REPEATS)
     return annotate(ds)
 
 
