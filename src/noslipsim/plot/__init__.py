@@ -24,13 +24,14 @@ Figure scripts read datasets and draw with these; they never simulate.
   the specular Birkhoff portrait, the reduced no-slip portrait in 3D;
 - :func:`save_figure`: PDF and PNG, byte-stable; it refuses a panel without data;
 - :func:`load_figure_data`, :func:`require_points`: a figure's dataset, refused when it holds
-  nothing to draw (:class:`EmptyFigureError`);
+  nothing to draw (:class:`EmptyFigureError`); :func:`legend_problems`, :func:`check_legend`: the lines a
+  legend hides and a spine it straddles;
 - :func:`numbers_markdown`: the table of the paper's computed numbers.
 - :mod:`noslipsim.plot.prose` (imported on its own): numbers quoted in prose, marked with their
   record of ``figures/numbers.json`` and checked against it.
 """
 from .annotate import draw_angle, draw_ray, label_point
-from .checks import EmptyFigureError, load_figure_data, require_points
+from .checks import EmptyFigureError, check_legend, legend_problems, load_figure_data, require_points
 from .flights import collision_frames, flight_states
 from .grids import draw_stability_grid
 from .numbers import numbers_markdown
@@ -62,5 +63,5 @@ __all__ += ["check_window", "collision_frames", "flight_states"]
 __all__ += ["draw_angle", "draw_ray", "label_point", "sphere_path"]
 __all__ += ["draw_class_boundary", "draw_deviation", "draw_return_points", "draw_two_disk_setup", "return_points"]
 __all__ += ["draw_birkhoff", "draw_layered_portrait", "draw_reduced_portrait", "orbit_colors"]
-__all__ += ["EmptyFigureError", "load_figure_data", "require_points"]
+__all__ += ["EmptyFigureError", "check_legend", "legend_problems", "load_figure_data", "require_points"]
 __all__ += ["REFERENCE_COLOR", "SEA_COLOR", "SERIES_COLORS", "equal_panels", "equal_windows", "frame_legend"]
