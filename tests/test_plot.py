@@ -313,6 +313,31 @@ def test_label_point_marks_and_labels(ax):
         plot.label_point(ax, "nowhere", "q")
 
 
+def test_a_label_beside_a_ray_stays_off_it_and_off_the_inside(ax):
+    """Figure 6's q0 and q1 were offset along their tangent lines, which then ran through the labels."""
+    offset, ha, va = plot.ray_label_offset((0.0, 0.0), (-1.0, 1.0), inside=(0.0, 1.5), distance=8.0)
+    assert np.hypot(*offset) == pytest.approx(8.0)
+    assert np.dot(offset, (-1.0, 1.0)) == pytest.approx(0.0, abs=1e-12)       # perpendicular to the ray
+    assert offset[0] < 0 and offset[1] < 0 and (ha, va) == ("right", "top")  # away from the inside point
+    mirrored, ha, va = plot.ray_label_offset((0.0, 0.0), (1.0, 1.0), inside=(0.0, 1.5))
+    assert mirrored[0] > 0 > mirrored[1] and (ha, va) == ("left", "top")
+    ax.set_aspect("equal")
+    ax.set_xlim(-2, 2)
+    ax.set_ylim(-0.5, 2)
+    ray = plot.draw_ray(ax, (0.0, 0.0), (-1.0, 1.0), beyond=1.0)
+    text = plot.label_point(ax, (-1.0, 1.0), "$q_0$", offset=offset, ha="right", va="top")
+    ax.figure.canvas.draw()
+    box = text.get_window_extent()
+    t = np.linspace(0, 1, 400)[:, None]
+    x0, x1 = np.array(ray.get_xydata()[0]), np.array(ray.get_xydata()[1])
+    pts = ax.transData.transform(x0 + t * (x1 - x0))
+    assert not ((pts[:, 0] > box.x0) & (pts[:, 0] < box.x1) & (pts[:, 1] > box.y0) & (pts[:, 1] < box.y1)).any()
+    with pytest.raises(ValueError, match="through"):
+        plot.ray_label_offset((0, 0), (0, 0), (1, 1))
+    with pytest.raises(ValueError, match="distance"):
+        plot.ray_label_offset((0, 0), (1, 1), (1, 0), distance=0.0)
+
+
 def test_sphere_path_follows_the_exact_flights():
     from noslipsim.sphere3d import simulate_sphere
 
