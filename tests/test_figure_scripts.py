@@ -22,3 +22,17 @@ def test_figure_1_prints_its_angles_to_the_digits_the_docs_quote(variable, recor
     source = (SCRIPTS / "fig01_specnoslip.py").read_text(encoding="utf-8")
     printed = re.findall(rf"orbit\.{variable}\):(\.\d+f)\}}°", source)
     assert printed == [committed["orbits"][record]["format"]]
+
+
+def test_figure_10_draws_its_reduced_sea_at_the_default_opacity():
+    """Figure 10(b) passed sea_alpha=0.06: at print size the chaotic sea was too pale to see."""
+    source = (SCRIPTS / "fig10_phaseportraits.py").read_text(encoding="utf-8")
+    assert "draw_reduced_portrait(" in source and "sea_alpha" not in source
+
+
+def test_figure_12_draws_its_title_shares_beside_the_curve():
+    """The panel titles' shares (the portraits' own orbits) differed from the curve below without a word;
+    they are drawn on the curve's panel, with their binomial errors and their own legend entry."""
+    source = (SCRIPTS / "fig12_lorentzgamma.py").read_text(encoding="utf-8")
+    assert 'shares = ds.regular.mean("orbit")' in source and "ax.errorbar(ds.gamma, shares" in source
+    assert "regular {float(case.regular.mean()):.1%}" in source     # the same quantity in the titles

@@ -338,6 +338,29 @@ def test_a_label_beside_a_ray_stays_off_it_and_off_the_inside(ax):
         plot.ray_label_offset((0, 0), (1, 1), (1, 0), distance=0.0)
 
 
+def test_a_3d_arrow_keeps_its_head_on_its_shaft():
+    """Figure 16's quiver heads came off their shafts under a squeezed box aspect: the arrow is drawn on the page,
+    between the projections of its two ends, whatever the view."""
+    from mpl_toolkits.mplot3d import proj3d
+
+    fig = plt.figure()
+    ax3 = fig.add_subplot(projection="3d")
+    ax3.set(xlim=(0, 3), ylim=(0, 2), zlim=(0, 0.5))
+    ax3.set_box_aspect((3.0, 2.0, 0.5))
+    for elev, azim in ((22.0, -30.0), (60.0, 120.0)):
+        ax3.view_init(elev=elev, azim=azim)
+        arrow = plot.draw_arrow3d(ax3, (1.0, 1.0, 0.0), (0.8, -0.3, 0.0))
+        fig.canvas.draw()
+        xs, ys, _ = proj3d.proj_transform(np.array([1.0, 1.8]), np.array([1.0, 0.7]), np.zeros(2), ax3.M)
+        np.testing.assert_allclose(arrow._posA_posB, [(xs[0], ys[0]), (xs[1], ys[1])])
+        assert arrow.get_arrowstyle().__class__.__name__ == "CurveFilledB"   # one filled head at the tip
+    with pytest.raises(ValueError, match="3D"):
+        plot.draw_arrow3d(fig.add_subplot(2, 2, 4), (0, 0, 0), (1, 0, 0))
+    with pytest.raises(ValueError, match="finite"):
+        plot.draw_arrow3d(ax3, (0, 0), (1, 0, 0))
+    plt.close(fig)
+
+
 def test_sphere_path_follows_the_exact_flights():
     from noslipsim.sphere3d import simulate_sphere
 

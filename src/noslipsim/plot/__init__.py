@@ -15,7 +15,8 @@ Figure scripts read datasets and draw with these; they never simulate.
 - :func:`draw_stability_grid`: a 2D grid with a theoretical threshold;
 - :func:`draw_angle`, :func:`draw_ray`, :func:`label_point`, :func:`ray_label_offset`: annotations of
   schematic figures;
-- :func:`sphere_path`: the 3D path of a bouncing sphere;
+- :func:`sphere_path`: the 3D path of a bouncing sphere; :func:`draw_arrow3d`: an arrow in 3D
+  whose head stays on its shaft;
 - :func:`draw_class_boundary`, :func:`draw_return_points`, :func:`draw_deviation`,
   :func:`draw_two_disk_setup`: stability figures (linear class over a survival
   map, returns to a wall, growth of a perturbation, the two-disk set-up);
@@ -39,7 +40,7 @@ from .orbits import draw_orbit, draw_spin, mark_ends, orbit_nodes, orbit_path
 from .phase import draw_birkhoff, draw_layered_portrait, draw_reduced_portrait, orbit_colors
 from .portraits import draw_portrait, portrait_points
 from .save import save_figure
-from .sphere import sphere_path
+from .sphere import draw_arrow3d, sphere_path
 from .stability import draw_class_boundary, draw_deviation, draw_return_points, draw_two_disk_setup, return_points
 from .style import (
            LAW_COLORS,
@@ -60,7 +61,7 @@ __all__ = ["LAW_COLORS", "STYLE", "auto_window", "draw_orbit", "draw_portrait", 
            "draw_table", "law_color", "mark_ends", "numbers_markdown", "orbit_nodes", "orbit_path",
            "portrait_points", "save_figure", "scene_of", "style_context", "table_shapes", "use_style", "view_window"]
 __all__ += ["check_window", "collision_frames", "flight_states"]
-__all__ += ["draw_angle", "draw_ray", "label_point", "ray_label_offset", "sphere_path"]
+__all__ += ["draw_angle", "draw_arrow3d", "draw_ray", "label_point", "ray_label_offset", "sphere_path"]
 __all__ += ["draw_class_boundary", "draw_deviation", "draw_return_points", "draw_two_disk_setup", "return_points"]
 __all__ += ["draw_birkhoff", "draw_layered_portrait", "draw_reduced_portrait", "orbit_colors"]
 __all__ += ["EmptyFigureError", "check_legend", "legend_problems", "load_figure_data", "require_points"]
