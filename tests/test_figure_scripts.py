@@ -36,3 +36,10 @@ def test_figure_12_draws_its_title_shares_beside_the_curve():
     source = (SCRIPTS / "fig12_lorentzgamma.py").read_text(encoding="utf-8")
     assert 'shares = ds.regular.mean("orbit")' in source and "ax.errorbar(ds.gamma, shares" in source
     assert "regular {float(case.regular.mean()):.1%}" in source     # the same quantity in the titles
+
+
+def test_figure_7_keys_its_colours_and_draws_the_force():
+    """Figure 7 coloured its launch angles without a key, and its caption's force arrow was not drawn."""
+    source = (SCRIPTS / "fig07_wedge.py").read_text(encoding="utf-8")
+    assert "plot.draw_force_arrow(" in source
+    assert "plot.frame_legend(" in source and 'label=f"{float(o.theta):g}"' in source

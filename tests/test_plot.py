@@ -361,6 +361,21 @@ def test_a_3d_arrow_keeps_its_head_on_its_shaft():
     plt.close(fig)
 
 
+def test_force_arrow_points_along_the_force_on_the_page(ax):
+    """Figure 7's caption promised a downward force arrow that no panel drew."""
+    ax.set_xlim(0, 4)
+    ax.set_ylim(0, 1)
+    for force in ((0.0, -1.0), (3.0, 4.0)):
+        arrow = plot.draw_force_arrow(ax, force, tail=(0.5, 0.8), length=0.2)
+        ax.figure.canvas.draw()
+        tip, tail = (ax.transAxes.transform(p) for p in (arrow.xy, arrow.xyann))
+        direction = (tip - tail) / np.hypot(*(tip - tail))
+        np.testing.assert_allclose(direction, np.array(force) / np.hypot(*force), atol=1e-9)
+    assert ax.texts[-1].get_text() == r"$\mathbf{g}$"
+    with pytest.raises(ValueError, match="zero force"):
+        plot.draw_force_arrow(ax, (0.0, 0.0))
+
+
 def test_sphere_path_follows_the_exact_flights():
     from noslipsim.sphere3d import simulate_sphere
 

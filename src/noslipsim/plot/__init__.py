@@ -13,8 +13,8 @@ Figure scripts read datasets and draw with these; they never simulate.
   start and end dots (:func:`mark_ends`);
 - :func:`draw_portrait`: a velocity portrait on the unit disk;
 - :func:`draw_stability_grid`: a 2D grid with a theoretical threshold;
-- :func:`draw_angle`, :func:`draw_ray`, :func:`label_point`, :func:`ray_label_offset`: annotations of
-  schematic figures;
+- :func:`draw_angle`, :func:`draw_ray`, :func:`label_point`, :func:`ray_label_offset`,
+  :func:`draw_force_arrow`: annotations of schematic figures;
 - :func:`sphere_path`: the 3D path of a bouncing sphere; :func:`draw_arrow3d`: an arrow in 3D
   whose head stays on its shaft;
 - :func:`draw_class_boundary`, :func:`draw_return_points`, :func:`draw_deviation`,
@@ -31,7 +31,7 @@ Figure scripts read datasets and draw with these; they never simulate.
 - :mod:`noslipsim.plot.prose` (imported on its own): numbers quoted in prose, marked with their
   record of ``figures/numbers.json`` and checked against it.
 """
-from .annotate import draw_angle, draw_ray, label_point, ray_label_offset
+from .annotate import draw_angle, draw_force_arrow, draw_ray, label_point, ray_label_offset
 from .checks import EmptyFigureError, check_legend, legend_problems, load_figure_data, require_points
 from .flights import collision_frames, flight_states
 from .grids import draw_stability_grid
@@ -61,7 +61,8 @@ __all__ = ["LAW_COLORS", "STYLE", "auto_window", "draw_orbit", "draw_portrait", 
            "draw_table", "law_color", "mark_ends", "numbers_markdown", "orbit_nodes", "orbit_path",
            "portrait_points", "save_figure", "scene_of", "style_context", "table_shapes", "use_style", "view_window"]
 __all__ += ["check_window", "collision_frames", "flight_states"]
-__all__ += ["draw_angle", "draw_arrow3d", "draw_ray", "label_point", "ray_label_offset", "sphere_path"]
+__all__ += ["draw_angle", "draw_arrow3d", "draw_force_arrow", "draw_ray", "label_point", "ray_label_offset",
+            "sphere_path"]
 __all__ += ["draw_class_boundary", "draw_deviation", "draw_return_points", "draw_two_disk_setup", "return_points"]
 __all__ += ["draw_birkhoff", "draw_layered_portrait", "draw_reduced_portrait", "orbit_colors"]
 __all__ += ["EmptyFigureError", "check_legend", "legend_problems", "load_figure_data", "require_points"]

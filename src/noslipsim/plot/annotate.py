@@ -127,3 +127,39 @@ def ray_label_offset(origin, through, inside, distance=8.0):
     va = "top" if dy < -1e-9 * distance else "bottom" if dy > 1e-9 * distance else "center"
     return (float(dx), float(dy)), ha, va
 
+
+
+def draw_force_arrow(ax, force, *, tail=(0.9, 0.95), length=0.2, label=r"$\mathbf{g}$", color="k", zorder=8):
+    """An arrow along the force, in a corner of the panel (axes fraction), labelled ``g`` beside it.
+
+    The panel's own aspect may stretch one axis, so the direction is laid out in
+    display units: the arrow points as the force does on the page.
+
+    Parameters
+    ----------
+    force : sequence of 2 float
+        The table's constant force (its direction is drawn; its size is not).
+    tail : tuple of float
+        Where the arrow starts, in axes fraction.
+    length : float
+        Arrow length as a share of the axes' height.
+
+    Returns
+    -------
+    matplotlib.text.Annotation
+        The arrow (its label is a separate text).
+    """
+    fx, fy = _point(force, "force")
+    size = math.hypot(fx, fy)
+    if size == 0.0:
+        raise ValueError("force: zero force has no direction to draw")
+    x0, y0 = _point(tail, "tail")
+    bbox = ax.get_window_extent()
+    dx = positive(length, "length") * fx / size * bbox.height / bbox.width   # the same page length both ways
+    dy = length * fy / size
+    arrow = ax.annotate("", xy=(x0 + dx, y0 + dy), xytext=(x0, y0), xycoords="axes fraction",
+                        arrowprops=dict(arrowstyle="-|>", color=color, linewidth=0.8, shrinkA=0, shrinkB=0),
+                        zorder=zorder)
+    ax.text(x0 + 0.5 * dx - 0.04, y0 + 0.5 * dy, label, transform=ax.transAxes, ha="right", va="center",
+            color=color, zorder=zorder)
+    return arrow
