@@ -376,6 +376,23 @@ def test_force_arrow_points_along_the_force_on_the_page(ax):
         plot.draw_force_arrow(ax, (0.0, 0.0))
 
 
+def test_unvisited_cells_are_the_part_of_the_disk_no_orbit_reached(ax):
+    """Figure 11's white areas read as forbidden; they are where no sampled orbit went (hatched, with a share)."""
+    import xarray as xr
+
+    rng = np.random.default_rng(0)
+    r, a = np.sqrt(rng.uniform(0, 1, 200_000)), rng.uniform(-np.pi / 2, np.pi / 2, 200_000)   # the right half disk
+    ds = xr.Dataset({"vt_unit": (("orbit", "point"), (r * np.cos(a)).reshape(2, -1)),
+                     "w_unit": (("orbit", "point"), (r * np.sin(a)).reshape(2, -1))})
+    edges, empty, share = plot.unvisited_cells(ds, bins=20)
+    assert edges[0] == -1.0 and edges[-1] == 1.0 and empty.shape == (20, 20)
+    assert empty[:10].any() and not empty[10:].any()       # [v_t cell, w cell]: only the left half is empty
+    assert share == pytest.approx(0.5, abs=0.02)
+    assert plot.draw_unvisited(ax, ds, bins=20) == share and ax.collections   # drawn, hatched
+    with pytest.raises(ValueError, match="bins"):
+        plot.unvisited_cells(ds, bins=1)
+
+
 def test_sphere_path_follows_the_exact_flights():
     from noslipsim.sphere3d import simulate_sphere
 

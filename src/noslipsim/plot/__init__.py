@@ -11,7 +11,8 @@ Figure scripts read datasets and draw with these; they never simulate.
   attribute);
 - :func:`draw_orbit`: an orbit's exact path, spin markers (:func:`draw_spin`),
   start and end dots (:func:`mark_ends`);
-- :func:`draw_portrait`: a velocity portrait on the unit disk;
+- :func:`draw_portrait`: a velocity portrait on the unit disk; :func:`draw_unvisited` hatches
+  the part of the disk no orbit visited (:func:`unvisited_cells`);
 - :func:`draw_stability_grid`: a 2D grid with a theoretical threshold;
 - :func:`draw_angle`, :func:`draw_ray`, :func:`label_point`, :func:`ray_label_offset`,
   :func:`draw_force_arrow`: annotations of schematic figures;
@@ -38,7 +39,7 @@ from .grids import draw_stability_grid
 from .numbers import numbers_markdown
 from .orbits import draw_orbit, draw_spin, mark_ends, orbit_nodes, orbit_path
 from .phase import draw_birkhoff, draw_layered_portrait, draw_reduced_portrait, orbit_colors
-from .portraits import draw_portrait, portrait_points
+from .portraits import draw_portrait, draw_unvisited, portrait_points, unvisited_cells
 from .save import save_figure
 from .sphere import draw_arrow3d, sphere_path
 from .stability import draw_class_boundary, draw_deviation, draw_return_points, draw_two_disk_setup, return_points
@@ -65,5 +66,6 @@ __all__ += ["draw_angle", "draw_arrow3d", "draw_force_arrow", "draw_ray", "label
             "sphere_path"]
 __all__ += ["draw_class_boundary", "draw_deviation", "draw_return_points", "draw_two_disk_setup", "return_points"]
 __all__ += ["draw_birkhoff", "draw_layered_portrait", "draw_reduced_portrait", "orbit_colors"]
+__all__ += ["draw_unvisited", "unvisited_cells"]
 __all__ += ["EmptyFigureError", "check_legend", "legend_problems", "load_figure_data", "require_points"]
 __all__ += ["REFERENCE_COLOR", "SEA_COLOR", "SERIES_COLORS", "equal_panels", "equal_windows", "frame_legend"]
