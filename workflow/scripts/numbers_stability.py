@@ -116,8 +116,9 @@ decided = (ds.linear_kind.values == "elliptic") | (ds.linear_kind.values == "hyp
 misses = decided & (elliptic != ds.survived.values.astype(bool))
 numbers["noforce_misses_clearing_far_disk"] = dict(
     description="no force: share of the misses (survival disagrees with the monodromy's class) whose turned "
-                "velocity passes over the far disk at once", value=significant((misses & clears).sum() / misses.sum(),
-                                                                                SHARE), format=".1%",
+                "velocity passes over the far disk at once",
+    value=significant((misses & clears).sum() / misses.sum(), SHARE) if misses.any() else "no miss in this grid",
+    format=".1%",
     paper="samples near φ = π/2, nearly tangent, have a noticeable experimental error",
     note=(f"{int((misses & clears).sum())} of {int(misses.sum())} misses; {int((misses & (P >= 1.45)).sum())} "
           f"lie at φ ≥ 1.45; {int((misses & ~elliptic).sum())} are hyperbolic points that survive"))
