@@ -313,6 +313,86 @@ def test_label_point_marks_and_labels(ax):
         plot.label_point(ax, "nowhere", "q")
 
 
+def test_a_label_beside_a_ray_stays_off_it_and_off_the_inside(ax):
+    """Figure 6's q0 and q1 were offset along their tangent lines, which then ran through the labels."""
+    offset, ha, va = plot.ray_label_offset((0.0, 0.0), (-1.0, 1.0), inside=(0.0, 1.5), distance=8.0)
+    assert np.hypot(*offset) == pytest.approx(8.0)
+    assert np.dot(offset, (-1.0, 1.0)) == pytest.approx(0.0, abs=1e-12)       # perpendicular to the ray
+    assert offset[0] < 0 and offset[1] < 0 and (ha, va) == ("right", "top")  # away from the inside point
+    mirrored, ha, va = plot.ray_label_offset((0.0, 0.0), (1.0, 1.0), inside=(0.0, 1.5))
+    assert mirrored[0] > 0 > mirrored[1] and (ha, va) == ("left", "top")
+    ax.set_aspect("equal")
+    ax.set_xlim(-2, 2)
+    ax.set_ylim(-0.5, 2)
+    ray = plot.draw_ray(ax, (0.0, 0.0), (-1.0, 1.0), beyond=1.0)
+    text = plot.label_point(ax, (-1.0, 1.0), "$q_0$", offset=offset, ha="right", va="top")
+    ax.figure.canvas.draw()
+    box = text.get_window_extent()
+    t = np.linspace(0, 1, 400)[:, None]
+    x0, x1 = np.array(ray.get_xydata()[0]), np.array(ray.get_xydata()[1])
+    pts = ax.transData.transform(x0 + t * (x1 - x0))
+    assert not ((pts[:, 0] > box.x0) & (pts[:, 0] < box.x1) & (pts[:, 1] > box.y0) & (pts[:, 1] < box.y1)).any()
+    with pytest.raises(ValueError, match="through"):
+        plot.ray_label_offset((0, 0), (0, 0), (1, 1))
+    with pytest.raises(ValueError, match="distance"):
+        plot.ray_label_offset((0, 0), (1, 1), (1, 0), distance=0.0)
+
+
+def test_a_3d_arrow_keeps_its_head_on_its_shaft():
+    """Figure 16's quiver heads came off their shafts under a squeezed box aspect: the arrow is drawn on the page,
+    between the projections of its two ends, whatever the view."""
+    from mpl_toolkits.mplot3d import proj3d
+
+    fig = plt.figure()
+    ax3 = fig.add_subplot(projection="3d")
+    ax3.set(xlim=(0, 3), ylim=(0, 2), zlim=(0, 0.5))
+    ax3.set_box_aspect((3.0, 2.0, 0.5))
+    for elev, azim in ((22.0, -30.0), (60.0, 120.0)):
+        ax3.view_init(elev=elev, azim=azim)
+        arrow = plot.draw_arrow3d(ax3, (1.0, 1.0, 0.0), (0.8, -0.3, 0.0))
+        fig.canvas.draw()
+        xs, ys, _ = proj3d.proj_transform(np.array([1.0, 1.8]), np.array([1.0, 0.7]), np.zeros(2), ax3.M)
+        np.testing.assert_allclose(arrow._posA_posB, [(xs[0], ys[0]), (xs[1], ys[1])])
+        assert arrow.get_arrowstyle().__class__.__name__ == "CurveFilledB"   # one filled head at the tip
+    with pytest.raises(ValueError, match="3D"):
+        plot.draw_arrow3d(fig.add_subplot(2, 2, 4), (0, 0, 0), (1, 0, 0))
+    with pytest.raises(ValueError, match="finite"):
+        plot.draw_arrow3d(ax3, (0, 0), (1, 0, 0))
+    plt.close(fig)
+
+
+def test_force_arrow_points_along_the_force_on_the_page(ax):
+    """Figure 7's caption promised a downward force arrow that no panel drew."""
+    ax.set_xlim(0, 4)
+    ax.set_ylim(0, 1)
+    for force in ((0.0, -1.0), (3.0, 4.0)):
+        arrow = plot.draw_force_arrow(ax, force, tail=(0.5, 0.8), length=0.2)
+        ax.figure.canvas.draw()
+        tip, tail = (ax.transAxes.transform(p) for p in (arrow.xy, arrow.xyann))
+        direction = (tip - tail) / np.hypot(*(tip - tail))
+        np.testing.assert_allclose(direction, np.array(force) / np.hypot(*force), atol=1e-9)
+    assert ax.texts[-1].get_text() == r"$\mathbf{g}$"
+    with pytest.raises(ValueError, match="zero force"):
+        plot.draw_force_arrow(ax, (0.0, 0.0))
+
+
+def test_unvisited_cells_are_the_part_of_the_disk_no_orbit_reached(ax):
+    """Figure 11's white areas read as forbidden; they are where no sampled orbit went (hatched, with a share)."""
+    import xarray as xr
+
+    rng = np.random.default_rng(0)
+    r, a = np.sqrt(rng.uniform(0, 1, 200_000)), rng.uniform(-np.pi / 2, np.pi / 2, 200_000)   # the right half disk
+    ds = xr.Dataset({"vt_unit": (("orbit", "point"), (r * np.cos(a)).reshape(2, -1)),
+                     "w_unit": (("orbit", "point"), (r * np.sin(a)).reshape(2, -1))})
+    edges, empty, share = plot.unvisited_cells(ds, bins=20)
+    assert edges[0] == -1.0 and edges[-1] == 1.0 and empty.shape == (20, 20)
+    assert empty[:10].any() and not empty[10:].any()       # [v_t cell, w cell]: only the left half is empty
+    assert share == pytest.approx(0.5, abs=0.02)
+    assert plot.draw_unvisited(ax, ds, bins=20) == share and ax.collections   # drawn, hatched
+    with pytest.raises(ValueError, match="bins"):
+        plot.unvisited_cells(ds, bins=1)
+
+
 def test_sphere_path_follows_the_exact_flights():
     from noslipsim.sphere3d import simulate_sphere
 

@@ -91,3 +91,37 @@ def test_frame_legend_is_framed_and_outside_the_data():
         with pytest.raises(ValueError, match="no labelled"):
             plot.frame_legend(empty)
         plt.close(fig)
+
+
+def test_a_legend_over_a_line_or_on_a_spine_is_found_and_refused():
+    with plot.style_context():
+        fig, ax = plt.subplots(figsize=(4, 3))
+        ax.plot([0, 1], [0.95, 0.95], label="top")        # runs under an upper legend, no vertex inside it
+        ax.plot([0, 1], [0.0, 0.1], label="bottom")
+        ax.set_ylim(-0.1, 1.0)
+        ax.legend(loc="upper center")
+        assert plot.legend_problems(ax) == ["covers top"]
+        with pytest.raises(ValueError, match="covers top"):
+            plot.check_legend(ax)
+        ax.legend(loc="center", bbox_to_anchor=(0.0, 0.5))   # half outside: on the left spine
+        assert plot.legend_problems(ax) == ["straddles the spine"]
+        ax.legend(loc="center")
+        assert plot.legend_problems(ax) == []
+        plot.frame_legend(ax, outside="right")
+        assert plot.legend_problems(ax) == []
+        ax.get_legend().remove()
+        with pytest.raises(ValueError, match="no legend"):
+            plot.legend_problems(ax)
+        plt.close(fig)
+
+
+def test_no_figure_script_paints_a_series_in_a_law_colour():
+    """Law colours come from ``law_color`` only: a hex literal of one in a figure script is a series (Figure 14
+    drew its launch angles in both) that a reader would take for a law."""
+    from pathlib import Path
+
+    scripts = sorted((Path(__file__).resolve().parents[1] / "workflow" / "scripts").glob("fig*.py"))
+    assert scripts
+    for script in scripts:
+        text = script.read_text(encoding="utf-8").lower()
+        assert not [c for c in plot.LAW_COLORS.values() if c.lower() in text], script.name

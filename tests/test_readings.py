@@ -7,6 +7,7 @@ grey scale is the complement; the wedge's transition is pi/2 - pi/7 to 1e-10 and
 five launch angles equals the eigenvalue of a finite-difference return map built from the engine alone.
 """
 import math
+import re
 
 import numpy as np
 import pytest
@@ -82,14 +83,44 @@ def test_survival_follows_the_class_and_the_table(scan):
     head = [c.strip() for c in lines[0].strip("|").split("|")]
     assert head == ["reading", "what changes", "R = 0.3", "R = 0.8", "stable at θ ≈ 1.3", "s-u-s",
                     "the paper's pattern"]
-    rows = {r.split("|")[1].strip(): [c.strip() for c in r.strip("|").split("|")] for r in lines[2:]}
-    assert list(rows) == [*SMALL, "inverted grey scale"]
+    cells = [[c.strip() for c in re.split(r"(?<!\\)\|", r.strip("|"))] for r in lines[2:]]   # "\|" is a pipe
+    rows = {c[0]: c for c in cells}
+    assert list(rows) == [*SMALL, "\\|λ\\| at θ = 1.3", "inverted grey scale"]
+    lam = [float(x) for x in rows["\\|λ\\| at θ = 1.3"][2:4]]
+    np.testing.assert_allclose(lam, scan.lambda_at_paper_theta.values, rtol=5e-3)   # printed to 3 digits
     assert rows["ours"][2:] == ["u-s-u (s: 0.80–1.20)", "s-u (s: 0.10–1.20)", "no", "no", "no"]
     # only the inverted grey scale gives the paper's pattern (stable -> unstable -> stable, stable near 1.3)
     assert rows["inverted grey scale"][2] == "s-u-s (s: 0.10–0.80, 1.20–1.50)"
     assert rows["inverted grey scale"][-1] == "R = 0.3"
-    assert all(r[-1] == "no" for name, r in rows.items() if name != "inverted grey scale")
+    assert all(r[-1] == "no" for name, r in rows.items() if name not in ("inverted grey scale", "\\|λ\\| at θ = 1.3"))
     assert rows["theta from the tangent (down)"][2].startswith("x-")
+
+
+def test_lambda_at_the_papers_angle_is_the_monodromys_largest_modulus():
+    """The |lambda| row: lambda + 1/lambda of the exact monodromy, solved for the larger root (1 if elliptic)."""
+    from noslipsim.analysis import two_disk_classes
+
+    lam = rd.lambda_at([0.3, 0.8], 1.3)
+    for R, value in zip((0.3, 0.8), lam):
+        (kind,), (s,) = two_disk_classes(R, [(0.4, 1.3)], G, gravity=1.0)
+        assert kind == "hyperbolic" and value > 1 and value + 1 / value == pytest.approx(abs(s), rel=1e-12)
+    assert rd.lambda_at([0.8], 0.5)[0] == 1.0                       # elliptic below pi/2 - phi at R = 0.8
+
+
+def test_the_brute_force_keeps_the_best_of_its_launches():
+    """A brute-force cell is the most collisions any launch of SPEED_FACTORS x SPIN_FACTORS survives."""
+    thetas = np.array([0.5, 1.3])
+    brute = rd.stability_readings({"ours": rd.READINGS["ours"], "brute": ("b", {"search": "speed_spin"})},
+                                  radii=(0.9,), thetas=thetas)
+    opt = rd._options({"search": "speed_spin"})
+    scene = ns.tables.two_disks(0.9, distance=2.0, gamma=opt["gamma"], force=(0.0, -1.0))
+    starts = [rd._start(0.9, 1.3, opt, 1.0, a, b)[0] for a in rd.SPEED_FACTORS for b in rd.SPIN_FACTORS]
+    assert int(brute.n_collisions.sel(reading="brute", radius=0.9, theta_read=1.3)) == \
+        int(rd._survival(scene, [s for s in starts if s is not None], opt).max())
+    # our launch is one of the brute force's (speed x 1, spin x 1): never fewer collisions
+    assert (brute.n_collisions.sel(reading="brute") >= brute.n_collisions.sel(reading="ours")).all()
+    with pytest.raises(ValueError, match="search"):
+        rd._options({"search": "everything"})
 
 
 def test_pattern_merges_short_runs():

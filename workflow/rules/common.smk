@@ -202,7 +202,7 @@ NUMBERS = {
                             "bounce": "orbits_bounce", "twodisks": "orbits_twodisks", "sphere": "orbits_sphere"}),
     "stability": figure(None, {"noforce": "stability_grid_noforce", "force": "stability_grid_force",
                                "theta": "stability_grid_theta", "scan": "stability_launch_scan",
-                               "wedge": "stability_wedge_orbits"},
+                               "launch": "stability_launch_orbits", "wedge": "stability_wedge_orbits"},
                         lambda: {"band": config["stability"]["grids"]["threshold_band"],
                                  "min_run": config["stability"]["grids"]["min_run"],
                                  "thetas": config["stability"]["launch"]["thetas"]}),

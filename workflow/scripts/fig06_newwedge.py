@@ -36,8 +36,10 @@ for ax, i in zip(axes, range(ds.sizes["orbit"])):
     plot.draw_orbit(ax, o, color=plot.law_color("no-slip"), linewidth=1.0, ends=False, zorder=4)
     plot.draw_angle(ax, vertex, math.pi / 2, math.pi / 2 + phi, 0.25 * size, r"$\varphi$")
     plot.draw_angle(ax, q0, 0.0, theta, 0.18 * size, r"$\theta$", label_distance=1.5)
-    plot.label_point(ax, q0, r"$\mathbf{q}_0$", offset=(-6, 3), ha="right")
-    plot.label_point(ax, q1, r"$\mathbf{q}_1$", offset=(6, 3))
+    apex = (vertex[0], y.max())
+    for q, name in ((q0, r"$\mathbf{q}_0$"), (q1, r"$\mathbf{q}_1$")):   # beside its wall or tangent, not across
+        offset, ha, va = plot.ray_label_offset(vertex, q, apex)
+        plot.label_point(ax, q, name, offset=offset, ha=ha, va=va)
     fx, fy = plot.scene_of(o).force
     if fx or fy:                                                         # the force's arrow, above the apex
         gx, gy, f = 0.12 * size, y.max() + 0.32 * size, math.hypot(fx, fy)

@@ -49,12 +49,14 @@ for ax, (title, rows), window in zip(np.atleast_1d(axes), panels, windows):
         o = ds.isel(orbit=int(i))
         # several launch angles: one series colour each; a single orbit: its law's colour
         color = plot.SERIES_COLORS[k % len(plot.SERIES_COLORS)] if len(rows) > 1 else None
-        plot.draw_orbit(ax, o, color=color, linewidth=0.9, ends=False)
-    if len(rows) > 1:
-        note = "\n$\\theta$ = " + ", ".join(f"{float(ds.theta[i]):g}" for i in rows)
-    else:
-        note = "\n" + describe(ds.isel(orbit=int(rows[0])))
+        plot.draw_orbit(ax, o, color=color, linewidth=0.9, ends=False, label=f"{float(o.theta):g}")
+    note = "" if len(rows) > 1 else "\n" + describe(ds.isel(orbit=int(rows[0])))
     ax.set_title(f"{title}{note}", fontsize=7.5)
     ax.set_xticks([])
     ax.set_yticks([])
+    # the caption's downward force, in the shaded region left of the left wall (every panel has one there)
+    plot.draw_force_arrow(ax, plot.scene_of(ds.isel(orbit=int(rows[0]))).force, tail=(0.11, 0.52), length=0.2)
+    if len(rows) > 1:   # the key from colour to launch angle, below the panel: off the orbits
+        plot.frame_legend(ax, outside="below", ncol=2, title="launch angle $\\theta$", fontsize=6.5,
+                          title_fontsize=6.5, handlelength=1.2, columnspacing=0.8)
 plot.save_figure(fig, snakemake.output.pdf)

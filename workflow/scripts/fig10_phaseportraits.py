@@ -24,7 +24,7 @@ right = fig.add_subplot(grid[2])
 
 plot.draw_birkhoff(left, lemon, lemon.regular, size=0.15)
 left.set_title(f"(a) specular lemon\nregular {float(lemon.regular.mean()):.0%}", fontsize=8)
-plot.draw_reduced_portrait(centre, sinai, sinai.regular, size=0.15, sea_alpha=0.06)
+plot.draw_reduced_portrait(centre, sinai, sinai.regular, size=0.15)
 centre.view_init(elev=18, azim=-62)
 centre.set_box_aspect((1.7, 1.0, 1.0), zoom=0.85)
 centre.set(xticks=range(int(float(sinai.s_boundary.max())) + 1), yticks=[-1, 0, 1], zticks=[-1, 0, 1])

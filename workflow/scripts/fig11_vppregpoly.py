@@ -11,6 +11,7 @@ import matplotlib.pyplot as plt
 from noslipsim import plot
 
 RECTANGLE_ORBITS = 5  # the rectangle's orbits are all regular and wide: 30 of them hide one another
+UNVISITED_BINS = 40   # cells of the disk's grid (0.05 wide) for the hatched, unvisited part
 
 ds = plot.load_figure_data(snakemake.input.portraits)
 n = ds.sizes["table"]
@@ -24,9 +25,12 @@ for ax, name in zip(axes, ds.table.values):
         case = case.isel(orbit=slice(0, RECTANGLE_ORBITS))
         label = f"{name} {ds.attrs['rectangle_aspect']:g}:1, {RECTANGLE_ORBITS} orbits"
     plot.draw_layered_portrait(ax, case, size=0.12)  # no flags: every orbit in its own colour
-    ax.set_title(label)
+    # white would read as forbidden: hatch what these orbits did not visit, and say how much of the measure it is
+    unvisited = plot.draw_unvisited(ax, case, bins=UNVISITED_BINS)
+    ax.set_title(f"{label}\nunvisited {unvisited:.0%}", fontsize=8)
 for ax in axes[1:]:
     ax.set_ylabel("")
 fig.suptitle(f"no-slip, $\\gamma$ = {float(ds.gamma[0]):.3g}, {ds.attrs['n_orbits']} orbits "
-             f"x {ds.attrs['n_collisions']:,} collisions each", fontsize=8)
+             f"x {ds.attrs['n_collisions']:,} collisions each; hatched: visited by none of them (not forbidden)",
+             fontsize=8)
 plot.save_figure(fig, snakemake.output.pdf)  # writes the .pdf and the .png beside it

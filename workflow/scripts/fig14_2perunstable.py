@@ -16,7 +16,7 @@ import numpy as np
 
 from noslipsim import plot
 
-COLORS = ["#0072B2", "#009E73", "#E69F00", "#CC79A7", "#D55E00", "#56B4E9", "#000000"]
+COLORS = plot.SERIES_COLORS  # the launch angles are not laws: never the specular blue or the no-slip vermilion
 ZOOM = 0.006  # half-width (rad) of the zoom around the transition
 ANCHOR = 1e-2  # the dashed growth lines pass through the distance 1e-2 (past the polynomial transient)
 
@@ -46,9 +46,9 @@ for j in range(n):
     o = ds.isel(orbit=n + j)
     plot.draw_deviation(growth, o, lambda_max=float(o.lambda_max), anchor=ANCHOR, color=COLORS[j % len(COLORS)],
                         label=f"{float(o.theta):.3f}")
-growth.set_ylim(1e-6, 3.0)   # room below the data for the legend
-growth.legend(title="$\\theta$", fontsize=6.5, title_fontsize=7, loc="lower right", ncol=3, frameon=True,
-              columnspacing=0.8, handlelength=1.2)
+growth.set_ylim(1e-7, 3.0)   # room below the data for the legend, inside the spines
+growth.legend(title="$\\theta$", fontsize=6, title_fontsize=6.5, loc="lower right", ncol=2, frameon=True,
+              columnspacing=0.6, handlelength=1.0, borderaxespad=0.3)
 growth.set_ylabel("distance $\\delta_k$ from the periodic orbit\n"
                   "$\\max(|\\Delta s|/\\ell,\\,|\\Delta w|/V,\\,|\\Delta v_t|/V)$", fontsize=7)
 angle = json.loads(ds.attrs["perturbation"])["angle"]
@@ -82,6 +82,8 @@ zoom.set_title(f"elliptic below $\\theta^* = {t_star:.6f}$", fontsize=7.5)
 wide.set_ylim(-2.2, 8.0)
 wide.axhline(-2.0, color="0.3", linewidth=0.5, linestyle=":")
 wide.set_ylabel("$\\lambda + 1/\\lambda$")
-wide.legend(fontsize=6.5, loc="upper left")
+wide.legend(fontsize=6, loc="upper left", handlelength=1.5)  # left of the theta* line
 wide.set_title("elliptic where $|\\lambda + 1/\\lambda| < 2$", fontsize=7.5)
+for ax in (growth, wide):   # each legend clear of the curves, inside its spines
+    plot.check_legend(ax)
 plot.save_figure(fig, snakemake.output.pdf)

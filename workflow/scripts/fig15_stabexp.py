@@ -17,6 +17,7 @@ import json
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib import patheffects
 
 from noslipsim import plot
 from noslipsim.analysis import elliptic_boundary
@@ -24,7 +25,11 @@ from noslipsim.analysis import elliptic_boundary
 LABELS = {"phi": "$\\varphi$ (position of $q_0$)", "theta": "launch angle $\\theta$", "radius": "disk radius $R$"}
 THRESHOLD_COLOR = "#009E73"   # theory (not a law colour)
 CLASS_COLOR = plot.law_color("no-slip")   # the class of the no-slip orbit
-PARABOLIC_COLOR = "0.35"
+PARABOLIC_COLOR = "k"
+# white-rimmed dots with gaps, on top of the elliptic outline that runs along it: seen on the dark survival map,
+# on the white one and on the outline, which shows between the dots
+PARABOLIC_STYLE = dict(color=PARABOLIC_COLOR, linestyle=(0, (1.0, 1.6)), linewidth=1.2,
+                       path_effects=[patheffects.Stroke(linewidth=2.4, foreground="w"), patheffects.Normal()])
 RESONANCE_COLOR = "#CC79A7"   # lambda + 1/lambda = -1: the 1:3 resonance, where the white streak lies
 MISS_COLOR = "#56B4E9"        # the turned velocity clears the far disk (the white strip near phi = pi/2)
 MIN_CELLS = 10                # smaller pockets of one class are not outlined (single cells, grazing corners)
@@ -62,15 +67,10 @@ def without_pockets(kinds, min_cells):
 
 
 def parabolic_line(ax, ds, second):
-    """The line phi + theta = pi/2 (a launch parallel to the tangent at q1), labelled."""
-    if second == "phi":
-        x, text = math.pi / 2 - float(ds.attrs["theta"]), "$\\varphi + \\theta = \\pi/2$"
-    else:
-        x, text = math.pi / 2 - float(ds.attrs["phi"]), "$\\varphi + \\theta = \\pi/2$"
-    ax.axvline(x, color=PARABOLIC_COLOR, linestyle=":", linewidth=1.0, zorder=3)
-    ax.text(x - 0.02, 0.5, text + " (parabolic)", rotation=90, ha="right", va="center", fontsize=6.5,
-            transform=ax.get_xaxis_transform(), color="k",
-            bbox=dict(facecolor="white", edgecolor="none", alpha=0.85, pad=1.0), zorder=4)
+    """The line phi + theta = pi/2 (a launch parallel to the tangent at q1), above the elliptic outline; named in
+    the legend (a label in the panel covered the survival map)."""
+    x = math.pi / 2 - float(ds.attrs["theta" if second == "phi" else "phi"])
+    return ax.axvline(x, zorder=3, **PARABOLIC_STYLE)
 
 
 def resonance(ax, ds, second):
@@ -126,7 +126,7 @@ ax.text(0.03, 0.04, f"elliptic boundary below $R^*$ by up to {shift['max_shift']
         f"(mean {shift['mean_shift']:.3f} for $\\varphi \\leq$ {shift['phi_max']:.2f})", transform=ax.transAxes,
         fontsize=6.5, ha="left", va="bottom", bbox=dict(facecolor="white", edgecolor="0.6", alpha=0.9, pad=1.5))
 axes[1, 1].plot([], [], color=CLASS_COLOR, label="elliptic (monodromy)")
-axes[1, 1].plot([], [], color=PARABOLIC_COLOR, linestyle=":", label="parabolic line $\\varphi + \\theta = \\pi/2$")
+axes[1, 1].plot([], [], label="parabolic line $\\varphi + \\theta = \\pi/2$", **PARABOLIC_STYLE)
 axes[1, 1].plot([], [], color=RESONANCE_COLOR, linewidth=0.7, label="$\\lambda + 1/\\lambda = -1$ (1:3 resonance)")
 axes[1, 1].plot([], [], color=MISS_COLOR, linestyle="-.", label="turned velocity clears the far disk")
 fig.colorbar(mesh, ax=axes[:, 1], shrink=0.45, label="collisions survived", anchor=(0.0, 0.1))

@@ -28,7 +28,7 @@ ax.scatter(q[:, 0], q[:, 1], q[:, 2], color=color, s=4, depthshade=False)
 mid = q.mean(axis=0)
 length = 0.25 * float(np.ptp(x) + np.ptp(y))
 for e, name in ((e1, "$e_1$"), (e2, "$e_2$")):
-    ax.quiver(mid[0], mid[1], 0, *(length * e), 0, color="k", linewidth=0.8, arrow_length_ratio=0.2)
+    plot.draw_arrow3d(ax, (mid[0], mid[1], 0.0), (*(length * e), 0.0))   # quiver's head came off its shaft
     ax.text(mid[0] + 1.15 * length * e[0], mid[1] + 1.15 * length * e[1], 0, name)
 ax.set_box_aspect((np.ptp(x), np.ptp(y), np.ptp(z)))                 # equal scales: e1 and e2 look orthogonal
 # look from the side of -e2, turned a little: the drift e1 runs across the picture

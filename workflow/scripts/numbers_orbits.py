@@ -63,6 +63,17 @@ numbers["twodisk_eigen_sum"] = dict(
     description=f"Figure 8: λ + 1/λ of the 2-periodic orbit between the disks ({disks.kind.values!s})",
     value=significant(disks.eigen_sum, FEW_COLLISIONS), format=".10f", paper="elliptic below the threshold",
     note=f"closed form {float(disks.eigen_sum_theory):.10f}")
+# The disks' centres are 2 apart and the collision points at angle phi on each: d = 2 - 2 R cos(phi), so
+# kappa d = 2/R - 2 cos(phi); both are closed forms of the configuration, known to the last bits.
+kappa_d = 2.0 / disks.attrs["radius"] - 2.0 * np.cos(disks.attrs["phi"])
+numbers["twodisk_kappa_d"] = dict(
+    description="Figure 8: κd of the 2-periodic orbit between the disks (curvature × distance of the collision "
+                "points)", value=significant(kappa_d, FEW_COLLISIONS), format=".2f",
+    paper="below the ellipticity threshold", note=f"R = {disks.attrs['radius']:g}, φ = {disks.attrs['phi']:g}")
+numbers["twodisk_threshold"] = dict(
+    description="Figure 8: the ellipticity threshold on κd at that φ (equation ellipticity)",
+    value=significant(theory.ellipticity_threshold(disks.attrs["phi"], disks.attrs["gamma"]), FEW_COLLISIONS),
+    format=".2f", paper="elliptic iff κd lies below it")
 numbers["twodisk_box_collisions"] = dict(
     description="Figure 8: collisions with the box, specular / no-slip",
     value=f"{int(disks.box_collisions.sel(orbit='specular'))} of {int(disks.n_collisions.sel(orbit='specular'))}"

@@ -16,6 +16,7 @@ from noslipsim.plot.numbers import below, eigenvalues_text, rounded, significant
 band, min_run = snakemake.params.band, snakemake.params.min_run
 grid = {k: xr.load_dataset(snakemake.input[k]) for k in ("noforce", "force", "theta")}
 scan, wedge = xr.load_dataset(snakemake.input.scan), xr.load_dataset(snakemake.input.wedge)
+launch = xr.load_dataset(snakemake.input.launch)
 # Each value is kept to the digits its computation determines (docs/figures.md, "Which numbers and figures are the
 # same on every machine").  A share of n <= 1e5 counted points is k/n: 6 significant digits tell every k apart,
 # whatever order a mean summed the points in.
@@ -28,6 +29,25 @@ def threshold_side(ds):
     keep = np.abs(R - Rs) >= band
     agree = (R > Rs) == ds.survived.values.astype(bool)
     return significant(agree[keep].mean(), SHARE), int(keep.sum()), int(keep.size)
+
+
+def growth_record(launch, theta):
+    """How many times the perturbed orbit launched at ``theta`` moves away from its periodic orbit over the run,
+    and that this growth is linear in the collision number (a near-Jordan block), not |lambda|^(k/2)."""
+    perturbed = launch.isel(orbit=slice(launch.sizes["orbit"] // 2, None))
+    orbit = perturbed.isel(orbit=int(np.argmin(np.abs(perturbed.theta.values - theta))))
+    dev = orbit.deviation.values
+    k = np.flatnonzero(np.isfinite(dev) & (dev > 0))
+    slope = dev[k[10:]] / k[10:]   # past a short transient, delta_k / k is constant if the growth is linear
+    return dict(
+        description=f"wedge of half-angle π/7, θ = {float(orbit.theta):g}: how many times the perturbed orbit's "
+                    f"distance from the periodic one grows over its {k.size} collisions",
+        # one orbit of a few hundred collisions: its distance is known far beyond 6 significant digits
+        value=significant(dev[k[-1]] / dev[k[0]], SHARE), format=".0f",
+        paper="1.122 remains stable (close to its periodic orbit)",
+        note=(f"δ from {dev[k[0]]:.2e} to {dev[k[-1]]:.3f}; δ_k/k within {np.ptp(slope) / np.mean(slope):.0%} of its "
+              "mean past collision 10: linear growth (next to the parabolic point the monodromy is nearly a Jordan "
+              f"block), where |λ|^(k/2) alone predicts {float(orbit.lambda_max) ** ((k[-1] - k[0]) / 2):.2f}"))
 
 
 numbers = {}
@@ -52,13 +72,17 @@ numbers["force_threshold_side"] = dict(
     note=f"{kept} of {total} points; holds at small θ only: the R × θ grid shows R* falling to 0 at θ = π/2 - φ")
 
 same = grid["force"].linear_kind.values == grid["noforce"].linear_kind.values
+edge = {k: elliptic_boundary(grid[k]).attrs for k in ("noforce", "force")}
+numbers["force_threshold_shift_mean"] = dict(
+    description=f"force, θ = {theta_f:g}: mean of R*(φ) - R_e(φ) over the φ columns not next to the parabolic "
+                "line", value=rounded(edge["force"]["mean_shift"], 10), format=".3f",
+    paper="the stability threshold is unaltered", note=f"φ ≤ {edge['force']['phi_max']:.2f}")
 numbers["force_class_equals_noforce"] = dict(
     description=f"force, θ = {theta_f:g}: share of the R × φ grid whose linear class under gravity is the "
                 "force-free one", value=significant(same.mean(), SHARE), format=".0%",
     paper="the stability threshold is unaltered",
     note=f"{grid['force'].sizes['radius']} × {grid['force'].sizes['phi']} grid; the share falls as θ grows "
          "(config/README.md)")
-edge = {k: elliptic_boundary(grid[k]).attrs for k in ("noforce", "force")}
 # R*(φ) - R_e(φ) is a difference of nearly equal radii (~0.5, each interpolated from monodromy traces known to
 # ~1e-14): it is known to an absolute ~1e-14 (another machine moved its 15th digit), so 10 decimals
 numbers["force_threshold_shift"] = dict(
@@ -88,6 +112,16 @@ numbers["noforce_clears_far_disk"] = dict(
           f"{int(escaped_elliptic.sum())} elliptic points that escape; of the rest, "
           f"{int((escaped_elliptic & ~clears & near_13).sum())} lie at |λ + 1/λ + 1| < 0.2, the 1:3 resonance "
           "(the white diagonal streak)"))
+decided = (ds.linear_kind.values == "elliptic") | (ds.linear_kind.values == "hyperbolic")
+misses = decided & (elliptic != ds.survived.values.astype(bool))
+numbers["noforce_misses_clearing_far_disk"] = dict(
+    description="no force: share of the misses (survival disagrees with the monodromy's class) whose turned "
+                "velocity passes over the far disk at once",
+    value=significant((misses & clears).sum() / misses.sum(), SHARE) if misses.any() else "no miss in this grid",
+    format=".1%",
+    paper="samples near φ = π/2, nearly tangent, have a noticeable experimental error",
+    note=(f"{int((misses & clears).sum())} of {int(misses.sum())} misses; {int((misses & (P >= 1.45)).sum())} "
+          f"lie at φ ≥ 1.45; {int((misses & ~elliptic).sum())} are hyperbolic points that survive"))
 
 ds = grid["theta"]
 phi = ds.attrs["phi"]
@@ -130,8 +164,9 @@ numbers["wedge_lambda_at_launch_angles"] = dict(
                 "launch angles", value=", ".join(f"{v:.4f}" for v in at.values()),
     paper="1.122 remains stable; the instability at 1.126 is more significant",
     note=("at θ = " + ", ".join(f"{t:g}" for t in at) + f"; all five lie above θ* = {t_star:.6f}, 1.122 by "
-          f"{min(at) - t_star:.1e}: |λ| > 1 at each, so 1.122 is hyperbolic too, but a perturbation of 1e-3 "
-          "grows only by |λ|^100 = " + f"{at[min(at)] ** 100:.2f}" + " over 200 collisions"))
+          f"{min(at) - t_star:.1e}: |λ| > 1 at each, so 1.122 is hyperbolic too (wedge_growth_near_transition: "
+          "how much a perturbation grows there)"))
+numbers["wedge_growth_near_transition"] = growth_record(launch, min(at))
 for i in range(wedge.sizes["orbit"]):
     o = wedge.isel(orbit=i)
     case = str(o.case.values)

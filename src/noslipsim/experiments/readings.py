@@ -51,6 +51,14 @@ disk; ``alternate``: it also ends at the first collision with the disk hit
 just before ("fails to hit one of the scatterers" read as failing to hit the
 other one); the collision cap (the paper: 1000) is a parameter of each
 reading.
+
+Brute force (``search = 'speed_spin'``): each cell launches every speed of
+:data:`SPEED_FACTORS` times the corrected one with every spin of
+:data:`SPIN_FACTORS` times the corrected one, each started where its flight
+crosses ``x = 0`` (outside both disks), and keeps the most collisions any
+survives: whatever speed and spin the paper used, a stable region it saw
+would show here.  :func:`lambda_at` gives the largest ``|lambda|`` of our
+2-periodic orbit at :data:`PAPER_THETA`, a row of the table.
 """
 from __future__ import annotations
 
@@ -65,9 +73,11 @@ import xarray as xr
 
 from .. import tables
 from .._metadata import annotate
+from ..analysis import two_disk_classes
 from ..ensemble import simulate_many
 
-__all__ = ["BASE", "READINGS", "paper_pattern", "readings_pattern", "readings_table", "stability_readings"]
+__all__ = ["BASE", "PAPER_THETA", "READINGS", "SPEED_FACTORS", "SPIN_FACTORS", "lambda_at", "paper_pattern",
+           "readings_pattern", "readings_table", "stability_readings"]
 
 #: Our reading (Figure 15, lower right): every other reading changes some of these keys.
 BASE = {
@@ -82,7 +92,16 @@ BASE = {
     "gamma": 1 / math.sqrt(2),
     "stop": "escape",           # escape | alternate
     "cap": 1000,
+    "search": "none",           # none | speed_spin (a cell survives if any launch of SPEED_FACTORS x SPIN_FACTORS does)
 }
+
+#: The brute-force reading (``search = 'speed_spin'``): launch speeds as multiples of the corrected speed (the
+#: printed one is 2) and spins as multiples of the corrected spin (the printed sign is -1, no spin 0).
+SPEED_FACTORS = (0.5, 0.75, 0.9, 1.0, 1.1, 1.25, 1.5, 2.0, 3.0)
+SPIN_FACTORS = (-2.0, -1.0, -0.5, 0.0, 0.5, 0.9, 1.0, 1.1, 1.5, 2.0)
+
+#: Where the paper sees "a real stable region" (Figure 15, lower right): the table gives |lambda| there.
+PAPER_THETA = 1.3
 
 #: The readings: name -> (what it changes from :data:`BASE`, in words; the changed keys).
 READINGS = {
@@ -122,6 +141,9 @@ READINGS = {
     "stop alternate": ("stop also when the same disk is hit twice in a row", {"stop": "alternate"}),
     "cap 100": ("collision cap 100", {"cap": 100}),
     "cap 5000": ("collision cap 5000", {"cap": 5000}),
+    "brute force: speed and spin": (
+        "every launch speed × (0.5 … 3, the printed 2 included) and spin × (−2 … 2, the printed −1 and 0 "
+        "included) from q0 at elevation θ: a cell survives if any of the 90 launches does", {"search": "speed_spin"}),
 }
 
 _THETA_FROM = {
@@ -135,7 +157,7 @@ _THETA_FROM = {
 _POSITION = {"half": lambda phi: phi, "full": lambda phi: phi / 2, "vertical": lambda phi: math.pi / 2 - phi}
 _CHOICES = {"position": _POSITION, "theta_from": _THETA_FROM, "speed": ("corrected", "printed"),
             "spin": ("corrected", "printed"), "perturbation": ("angle", "speed", "spin", "position", "none"),
-            "mode": ("relative", "absolute"), "stop": ("escape", "alternate")}
+            "mode": ("relative", "absolute"), "stop": ("escape", "alternate"), "search": ("none", "speed_spin")}
 
 #: A launch elevation closer than this to 0 or pi/2 launches nothing (the speed diverges there).
 _EDGE = 1e-6
@@ -164,8 +186,9 @@ def _options(changes):
     return opt
 
 
-def _start(radius, theta, opt, gravity):
-    """The perturbed half-way state of one reading at ``(R, theta)``, or ``None`` if it launches nothing."""
+def _start(radius, theta, opt, gravity, speed_factor=1.0, spin_factor=1.0):
+    """The perturbed half-way state of one reading at ``(R, theta)``, or ``None`` if it launches nothing;
+    ``speed_factor`` and ``spin_factor`` scale the launch (the brute-force reading)."""
     p = _POSITION[opt["position"]](opt["phi"])
     alpha = _THETA_FROM[opt["theta_from"]](theta, p)
     if not _EDGE < alpha < math.pi / 2 - _EDGE:
@@ -174,9 +197,12 @@ def _start(radius, theta, opt, gravity):
     q0 = np.array([-1.0 + radius * c, radius * s])
     d = 2.0 - 2.0 * radius * c
     v = math.sqrt(gravity * d / math.sin(2.0 * alpha)) * (2.0 if opt["speed"] == "printed" else 1.0)
-    w = v * math.sin(p - alpha) / opt["gamma"] * (-1.0 if opt["spin"] == "printed" else 1.0)
+    w = v * math.sin(p - alpha) / opt["gamma"] * (-1.0 if opt["spin"] == "printed" else 1.0) * spin_factor
+    v *= speed_factor   # after the spin: a scaled speed keeps the periodic orbit's spin
     v0 = v * np.array([math.cos(alpha), math.sin(alpha)])
-    tau = -q0[0] / v0[0]  # the flight crosses x = 0 (half-way to q1 for the periodic launch)
+    # where the flight crosses x = 0: half-way to q1 for the periodic launch, and outside both disks for any
+    # launch (their centres are 1 from that line, their radii below 1), so always a state of the table
+    tau = -q0[0] / v0[0]
     a = np.array([0.0, -gravity])
     q = q0 + v0 * tau + 0.5 * a * tau * tau
     vel = v0 + a * tau
@@ -213,6 +239,21 @@ def _survival(scene, starts, opt):
         if repeat.size:
             out[i] = int(repeat[0]) + 1  # collisions before the first one on the disk just hit
     return out
+
+
+def lambda_at(radii, theta=PAPER_THETA, *, phi=BASE["phi"], gamma=BASE["gamma"], gravity=1.0):
+    """Largest ``|lambda|`` per period of our 2-periodic orbit at launch angle ``theta``, for each radius.
+
+    From :func:`noslipsim.analysis.two_disk_classes` (the exact 2-bounce
+    monodromy): ``|lambda| = (|s| + sqrt(s^2 - 4)) / 2`` for ``s = lambda + 1/lambda``
+    outside ``[-2, 2]``, 1 inside (elliptic), NaN where there is no such orbit.
+    A perturbation grows by about ``|lambda|`` every two collisions.
+    """
+    out = []
+    for R in np.asarray(radii, dtype=float):
+        _, (s,) = two_disk_classes(float(R), [(phi, theta)], gamma, gravity=gravity)
+        out.append(0.5 * (abs(s) + math.sqrt(s * s - 4.0)) if abs(s) > 2.0 else (1.0 if math.isfinite(s) else math.nan))
+    return np.array(out)
 
 
 def stability_readings(readings: Mapping | None = None, *, radii: Sequence[float] = (0.15, 0.3, 0.45, 0.7, 0.9),
@@ -284,17 +325,20 @@ def stability_readings(readings: Mapping | None = None, *, radii: Sequence[float
         caps.append(int(opt["cap"]))
         gammas.append(float(opt["gamma"]))
         positions.append(_POSITION[opt["position"]](opt["phi"]))
+        launches = [(a, b) for a in SPEED_FACTORS for b in SPIN_FACTORS] if opt["search"] == "speed_spin" \
+            else [(1.0, 1.0)]
         for j, R in enumerate(radii):
             scene = tables.two_disks(float(R), distance=2.0, gamma=opt["gamma"], force=(0.0, -gravity))
             starts, where = [], []
             for k, theta in enumerate(thetas):
-                start, alpha = _start(float(R), float(theta), opt, gravity)
-                elevation[i, k] = alpha
-                if start is not None:
-                    starts.append(start)
-                    where.append(k)
-            if starts:
-                n_coll[i, j, where] = _survival(scene, starts, opt)
+                for speed, spin in launches:
+                    start, alpha = _start(float(R), float(theta), opt, gravity, speed, spin)
+                    elevation[i, k] = alpha
+                    if start is not None:
+                        starts.append(start)
+                        where.append(k)
+            if starts:   # a cell keeps its best launch (the brute force; one launch per cell otherwise)
+                np.maximum.at(n_coll[i, j], where, _survival(scene, starts, opt))
     cap = np.array(caps)[:, None, None]
     survived = np.where(n_coll < 0, -1, (n_coll >= cap).astype(np.int64)).astype(np.int8)
     ds = xr.Dataset(
@@ -306,7 +350,8 @@ def stability_readings(readings: Mapping | None = None, *, radii: Sequence[float
          "reading_options": ("reading", np.array([json.dumps(o, sort_keys=True) for o in opts], dtype=object)),
          "collision_cap": ("reading", np.array(caps, dtype=np.int64)),
          "gamma": ("reading", np.array(gammas)),
-         "position_angle": ("reading", np.array(positions))},
+         "position_angle": ("reading", np.array(positions)),
+         "lambda_at_paper_theta": ("radius", lambda_at(radii, gravity=gravity))},
         coords={"reading": np.array(names, dtype=object), "radius": radii, "theta_read": thetas,
                 "curvature": ("radius", 1.0 / radii)})
     ds.attrs.update(title="Figure 15, lower right: survival along theta under each reading of the paper",
@@ -412,6 +457,10 @@ def readings_table(ds: xr.Dataset, *, min_run: int = 2) -> str:
     for name in ds.reading.values:
         line(name, str(ds.reading_description.sel(reading=name).values),
              [readings_pattern(ds, name, r, min_run=min_run) for r in radii])
+    if "lambda_at_paper_theta" in ds:
+        rows.append(f"| \\|λ\\| at θ = {PAPER_THETA:g} | ours, linear: the largest eigenvalue's modulus per period "
+                    "(a perturbation grows about this much every two collisions) | "
+                    + " | ".join(f"{x:.3g}" for x in ds.lambda_at_paper_theta.values) + " | – | – | – |")
     if "ours" in ds.reading.values:
         inv = ds.sel(reading=["ours"]).copy(deep=True)
         s = inv.survived.values

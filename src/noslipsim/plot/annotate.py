@@ -96,3 +96,70 @@ def label_point(ax, xy, text, *, offset=(4.0, 4.0), color="k", marker="o", marke
         ax.plot([x], [y], marker=marker, markersize=markersize, color=color, linestyle="none", zorder=zorder)
     return ax.annotate(text, (x, y), xytext=offset, textcoords="offset points", color=color, fontsize=fontsize,
                        ha=ha, va=va, zorder=zorder)
+
+
+def ray_label_offset(origin, through, inside, distance=8.0):
+    """Offset (points) and alignment that put a label of ``through`` beside the ray from ``origin``, away from it.
+
+    The label of a point on a wall or tangent line sits across the line when it is offset along the line
+    (Figure 6's ``q0``, ``q1`` on the tangents); perpendicular to the ray, on the side away from ``inside``
+    (a point of the picture's interior, e.g. the flight's apex), it touches neither the line nor the flight.
+    Meant for an equal-aspect axes (:func:`noslipsim.plot.draw_table` sets one), where a perpendicular in data
+    coordinates is one on the page.
+
+    Returns
+    -------
+    offset : tuple of float
+        ``(dx, dy)`` in points, of length ``distance``.
+    ha, va : str
+        Alignment that keeps the label's box on that side.
+    """
+    p, q, c = (np.array(_point(v, name)) for v, name in ((origin, "origin"), (through, "through"),
+                                                          (inside, "inside")))
+    if np.array_equal(p, q):
+        raise ValueError(f"through: must differ from origin {tuple(p)}")
+    u = (q - p) / np.linalg.norm(q - p)
+    n = np.array([-u[1], u[0]])
+    if np.dot(n, c - q) > 0:
+        n = -n
+    dx, dy = positive(distance, "distance") * n
+    ha = "right" if dx < -1e-9 * distance else "left" if dx > 1e-9 * distance else "center"
+    va = "top" if dy < -1e-9 * distance else "bottom" if dy > 1e-9 * distance else "center"
+    return (float(dx), float(dy)), ha, va
+
+
+
+def draw_force_arrow(ax, force, *, tail=(0.9, 0.95), length=0.2, label=r"$\mathbf{g}$", color="k", zorder=8):
+    """An arrow along the force, in a corner of the panel (axes fraction), labelled ``g`` beside it.
+
+    The panel's own aspect may stretch one axis, so the direction is laid out in
+    display units: the arrow points as the force does on the page.
+
+    Parameters
+    ----------
+    force : sequence of 2 float
+        The table's constant force (its direction is drawn; its size is not).
+    tail : tuple of float
+        Where the arrow starts, in axes fraction.
+    length : float
+        Arrow length as a share of the axes' height.
+
+    Returns
+    -------
+    matplotlib.text.Annotation
+        The arrow (its label is a separate text).
+    """
+    fx, fy = _point(force, "force")
+    size = math.hypot(fx, fy)
+    if size == 0.0:
+        raise ValueError("force: zero force has no direction to draw")
+    x0, y0 = _point(tail, "tail")
+    bbox = ax.get_window_extent()
+    dx = positive(length, "length") * fx / size * bbox.height / bbox.width   # the same page length both ways
+    dy = length * fy / size
+    arrow = ax.annotate("", xy=(x0 + dx, y0 + dy), xytext=(x0, y0), xycoords="axes fraction",
+                        arrowprops=dict(arrowstyle="-|>", color=color, linewidth=0.8, shrinkA=0, shrinkB=0),
+                        zorder=zorder)
+    ax.text(x0 + 0.5 * dx - 0.04, y0 + 0.5 * dy, label, transform=ax.transAxes, ha="right", va="center",
+            color=color, zorder=zorder)
+    return arrow

@@ -119,3 +119,70 @@ def _collection_data(coll):
         return np.asarray(coll.get_offsets(), dtype=float)
     verts = [p.vertices for p in coll.get_paths() if len(p.vertices)]
     return np.concatenate(verts) if verts else np.zeros(0)
+
+
+#: Display points per line segment when a legend is tested against a line (a segment may cross the legend's box
+#: between two vertices outside it).
+_SEGMENT_SAMPLES = 16
+
+
+def legend_problems(ax):
+    """What the legend of ``ax`` hides: the labels of lines that pass under it, and a spine it straddles.
+
+    A legend belongs either inside the axes, clear of every line, or wholly
+    outside them; one that overlaps an edge sits on the spine and its ticks.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        An axes with a legend (the figure is drawn to measure it).
+
+    Returns
+    -------
+    list of str
+        ``"covers LABEL"`` per line drawn under the legend's box (inside the
+        axes' view), ``"straddles the spine"`` when the box is neither inside
+        nor outside the axes; empty when the legend is clear.
+
+    Raises
+    ------
+    ValueError
+        If ``ax`` has no legend.
+    """
+    legend = ax.get_legend()
+    if legend is None:
+        raise ValueError("legend_problems: the axes have no legend")
+    ax.figure.canvas.draw()
+    box, frame = legend.get_window_extent(), ax.get_window_extent()
+    problems = []
+    inside = frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
+    if not inside and box.overlaps(frame):
+        problems.append("straddles the spine")
+    for line in ax.get_lines():
+        if _passes_under(line, box, frame):
+            problems.append(f"covers {line.get_label()}")
+    return problems
+
+
+def _passes_under(line, box, frame):
+    """Whether a 2D line, sampled along each segment in display coordinates, enters ``box`` within ``frame``."""
+    xy = np.asarray(line.get_xydata(), dtype=float)
+    xy = xy[np.isfinite(xy).all(axis=1)]
+    if not line.get_visible() or len(xy) == 0:
+        return False
+    pts = line.get_transform().transform(xy)
+    if len(pts) > 1:
+        t = np.linspace(0.0, 1.0, _SEGMENT_SAMPLES, endpoint=False)[:, None, None]
+        pts = np.concatenate([(pts[:-1] + t * (pts[1:] - pts[:-1])).reshape(-1, 2), pts[-1:]])
+    seen = ((pts[:, 0] >= frame.x0) & (pts[:, 0] <= frame.x1) & (pts[:, 1] >= frame.y0) & (pts[:, 1] <= frame.y1))
+    under = (pts[:, 0] > box.x0) & (pts[:, 0] < box.x1) & (pts[:, 1] > box.y0) & (pts[:, 1] < box.y1)
+    return bool((seen & under).any())
+
+
+def check_legend(ax):
+    """Raise :class:`ValueError` when the legend of ``ax`` hides a line or straddles a spine
+    (:func:`legend_problems`): a figure script refuses to save such a layout."""
+    problems = legend_problems(ax)
+    if problems:
+        title = ax.get_title() or ax.get_ylabel() or "an axes"
+        raise ValueError(f"legend of {title!r}: " + ", ".join(problems))

@@ -151,15 +151,16 @@ def draw_birkhoff(ax, portrait, regular=None, *, size=0.3, sea_color=SEA_COLOR, 
     return pts
 
 
-def draw_reduced_portrait(ax, portrait, regular=None, *, size=0.3, sea_color=SEA_COLOR, sea_alpha=0.1,
+def draw_reduced_portrait(ax, portrait, regular=None, *, size=0.3, sea_color=SEA_COLOR, sea_alpha=0.3,
                           boundary_length=None, rasterized=True, frame_color="0.35"):
     """The reduced no-slip portrait in 3D: ``s`` along the axis of a solid cylinder, ``(v_t, w)`` across it.
 
     The reduced phase space ``S^1 x S^2_+`` is the solid cylinder
     ``[0, L] x {v_t^2 + w^2 <= 1}`` with its two ends identified (a solid
     torus); the two end circles and four generators are drawn as a frame.
-    The chaotic sea fills the cylinder, so it is drawn faint (``sea_alpha``)
-    and the regular orbits, opaque, show through.
+    The chaotic sea fills the cylinder, so it is drawn translucent (``sea_alpha``)
+    and the regular orbits, opaque, show through; much fainter than the
+    default and the sea vanishes at print size.
 
     Parameters
     ----------

@@ -13,6 +13,7 @@ docs/datasets.md).
 """
 from __future__ import annotations
 
+import matplotlib
 import numpy as np
 from matplotlib.patches import Circle as CirclePatch
 
@@ -89,3 +90,48 @@ def velocity_disk_axes(ax, zorder):
     ax.set_aspect("equal")
     ax.set_xlabel(r"$v_t$")
     ax.set_ylabel(r"$w$")
+
+
+def unvisited_cells(portrait, bins=40):
+    """The cells of a ``bins`` x ``bins`` grid on the disk ``(v_t, w)`` that no recorded point falls in.
+
+    A velocity portrait shows where its orbits went, not where orbits cannot go: a
+    white area of the disk may simply hold no sampled orbit.  The disk is the
+    projection of the reduced phase space with its invariant volume
+    ``ds dv_t dw``, so the share of the disk's area is the share of the measure.
+
+    Returns
+    -------
+    edges : ndarray
+        The ``bins + 1`` cell edges on ``[-1, 1]`` (both axes).
+    empty : ndarray of bool
+        ``(bins, bins)``, indexed ``[v_t cell, w cell]``: no point, cell centre on the disk.
+    share : float
+        The empty cells' share of the cells whose centre lies on the disk.
+    """
+    if isinstance(bins, bool) or not isinstance(bins, (int, np.integer)) or bins < 2:
+        raise ValueError(f"bins: expected an integer >= 2, got {bins!r}")
+    vt, w, _ = portrait_points(portrait)
+    edges = np.linspace(-1.0, 1.0, int(bins) + 1)
+    counts, _, _ = np.histogram2d(vt, w, bins=(edges, edges))
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    on_disk = np.hypot(centres[:, None], centres[None, :]) <= 1.0
+    empty = on_disk & (counts == 0)
+    return edges, empty, float(empty.sum() / on_disk.sum())
+
+
+def draw_unvisited(ax, portrait, *, bins=40, color="0.55", zorder=0.5):
+    """Hatch the cells of the disk that no orbit of ``portrait`` visited (:func:`unvisited_cells`).
+
+    Returns
+    -------
+    float
+        Their share of the disk (of the invariant measure).
+    """
+    edges, empty, share = unvisited_cells(portrait, bins)
+    if empty.any():
+        centres = 0.5 * (edges[1:] + edges[:-1])
+        with matplotlib.rc_context({"hatch.color": color, "hatch.linewidth": 0.4}):
+            ax.contourf(centres, centres, empty.T.astype(float), levels=[0.5, 1.5], colors="none",
+                        hatches=["//////"], zorder=zorder)
+    return share

@@ -28,7 +28,8 @@ import re
 
 from .numbers import format_value
 
-__all__ = ["MARKDOWN_MARK", "RST_MARK", "fill_prose", "marked_numbers", "prose_mismatches", "quoted_value"]
+__all__ = ["MARKDOWN_MARK", "RST_MARK", "fill_prose", "marked_numbers", "prose_mismatches", "quoted_value",
+           "unmarked_numbers"]
 
 #: A number quoted in markdown, marked with the record it comes from (the marker is an HTML comment, invisible
 #: when rendered): ``0.319 ± 0.008<!--=portraits.islands_onset_gamma_R0.45-->``, or with a format of its own,
@@ -107,6 +108,42 @@ def prose_mismatches(text, numbers, kind="markdown"):
             continue
         if _canonical(quoted) != _canonical(want):
             out.append(f"{ref}: the prose says {quoted!r}, numbers.json gives {want!r}")
+    return out
+
+
+#: The generated numbers table of the README: every number in it is a record's, by construction.
+_TABLE_BLOCK = re.compile(r"<!-- numbers:start -->.*?<!-- numbers:end -->", re.S)
+
+
+def _distinctive(text):
+    """Whether a record's printed value is unlikely to occur by chance in prose: a share (``93.8%``) or an
+    uncertainty (``± 0.008``) of 3 digits or more, or any number of 4 significant digits or more."""
+    digits = len(re.sub(r"\D", "", text).lstrip("0"))
+    return digits >= (3 if ("%" in text or "±" in text) else 4)
+
+
+def unmarked_numbers(text, numbers):
+    """The numbers of markdown ``text`` that print exactly as a record does but carry no marker.
+
+    Such a number was typed by hand: it would not follow the record after the next run.  Only values
+    distinctive enough not to match by chance are looked for (a share or ``±`` with 3 digits, others with
+    4 significant digits); the README's generated numbers table is skipped.
+
+    Returns
+    -------
+    list of str
+        ``"line N: TEXT (subject.key)"`` for each unmarked occurrence.
+    """
+    body = _TABLE_BLOCK.sub(lambda m: "\n" * m.group(0).count("\n"), text)
+    out = []
+    for subject, records in numbers.items():
+        for key, record in records.items():
+            if isinstance(record["value"], str) or not _distinctive(format_value(record)):
+                continue
+            want = format_value(record)
+            spelled = re.escape(want).replace("%", r"\s?%").replace(r"\ ±\ ", r"\s?±\s?").replace("-", "[-−]")
+            for m in re.finditer(rf"(?<![\d.]){spelled}(?![\d]|\.\d|<!--=)", body):
+                out.append(f"line {body.count(chr(10), 0, m.start()) + 1}: {m.group(0)} ({subject}.{key})")
     return out
 
 

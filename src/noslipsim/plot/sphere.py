@@ -58,3 +58,43 @@ def sphere_path(bounce, points_per_flight=POINTS_PER_FLIGHT):
     x, y, z = (q[:-1, i, None] + v[:-1, i, None] * tau for i in range(3))
     z = z - 0.5 * g * tau ** 2
     return x.ravel(), y.ravel(), z.ravel()
+
+
+def draw_arrow3d(ax, start, vector, *, color="k", linewidth=0.8, mutation_scale=8.0, zorder=5):
+    """An arrow in a 3D axes whose head is drawn on the page, joined to its shaft at every view.
+
+    ``Axes3D.quiver`` builds the head from two short lines in data coordinates;
+    under a box aspect that is not the data's (Figure 16 squeezes z) they
+    project away from the shaft and the head looks detached.  Here the two
+    end points are projected and a 2D arrow (head included) joins them.
+
+    Parameters
+    ----------
+    ax : mpl_toolkits.mplot3d.axes3d.Axes3D
+    start, vector : sequence of 3 float
+        Tail and extent of the arrow (data coordinates).
+
+    Returns
+    -------
+    matplotlib.patches.FancyArrowPatch
+    """
+    from matplotlib.patches import FancyArrowPatch
+    from mpl_toolkits.mplot3d import proj3d
+
+    p0, d = np.asarray(start, dtype=float), np.asarray(vector, dtype=float)
+    if p0.shape != (3,) or d.shape != (3,) or not np.isfinite(np.r_[p0, d]).all():
+        raise ValueError(f"start, vector: expected finite 3D points, got {start!r}, {vector!r}")
+    if getattr(ax, "name", None) != "3d":
+        raise ValueError("ax: expected a 3D axes (projection='3d')")
+    p1 = p0 + d
+
+    class _Arrow3D(FancyArrowPatch):
+        def do_3d_projection(self, renderer=None):
+            xs, ys, zs = proj3d.proj_transform(*np.c_[p0, p1], self.axes.M)
+            self.set_positions((xs[0], ys[0]), (xs[1], ys[1]))
+            return float(np.min(zs))
+
+    arrow = _Arrow3D((0.0, 0.0), (0.0, 0.0), arrowstyle="-|>", color=color, linewidth=linewidth,
+                     mutation_scale=mutation_scale, shrinkA=0.0, shrinkB=0.0, zorder=zorder)
+    ax.add_artist(arrow)
+    return arrow
