@@ -143,7 +143,8 @@ for name in ("found", "not found", "not periodic", "not minimal"):
         description=f"accessible balanced pairs that ended '{name}'", value=int((balanced & (outcome == name)).sum()),
         format="d")
 reason = accessible.reason.values.astype(str)
-for key, why in (("spin_reversed", "spin reversed"), ("no_flight_times", "T T' not positive")):
+NO_TIMES = "T T' not positive"
+for key, why in (("spin_reversed", "spin reversed"), ("no_flight_times", NO_TIMES)):
     numbers[f"accessible_not_found_{key}"] = dict(
         description=f"balanced pairs not found because: {why}", value=int((balanced & (reason == why)).sum()),
         format="d")
@@ -152,6 +153,14 @@ mirror, family = accessible.mirror.values.astype(bool), accessible.family.values
 numbers["accessible_found_mirror"] = dict(
     description="found pairs that are mirror images of each other about a line along the force",
     value=int((found & mirror).sum()), format="d", note=f"of {int(found.sum())} found pairs")
+numbers["accessible_mirror_pairs"] = dict(
+    description="accessible balanced pairs that are mirror images about a line along the force",
+    value=int((accessible_balanced & mirror).sum()), format="d",
+    note=f"{int((accessible_balanced & mirror & (reason == NO_TIMES)).sum())} of them with T T' <= 0")
+numbers["accessible_asymmetric_found"] = dict(
+    description="accessible balanced pairs that are not mirror images and carry a confirmed orbit",
+    value=int((accessible_balanced & ~mirror & found).sum()), format="d",
+    note=f"of {int((accessible_balanced & ~mirror).sum())} such pairs")
 numbers["accessible_family_pairs"] = dict(
     description="accessible balanced pairs whose orbits form a one-parameter family (the two-flight equations hold "
                 "for every flight time)", value=int((accessible_balanced & family).sum()), format="d",
