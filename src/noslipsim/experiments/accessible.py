@@ -22,10 +22,13 @@ reversed).  A non-path-reversing one (``T != T'``) therefore needs
 one condition on the pair, which a directly opposite pair with the force
 along its tangential wedge's bisector meets by symmetry.  An unbalanced pair
 has provably no such orbit.  On a balanced pair, one equation in ``T`` is left
-(the tangential velocity at ``q0``); its roots are candidates, which the
-engine then confirms or refutes: :func:`noslipsim.analysis.find_periodic_orbit`
-(period 2) is started on each and must return a periodic orbit through
-``q0`` and ``q1``.
+(the tangential velocity at ``q0``; the spin law must close as well, which the
+tangential law fixes only up to sign).  On a pair mirror-symmetric about a
+line along the force it holds for every ``T``: a one-parameter family of
+orbits between the same two points.  Otherwise its roots are the candidates.
+The engine then confirms or refutes each candidate:
+:func:`noslipsim.analysis.find_periodic_orbit` (period 2) is started on it
+and must return a periodic orbit through ``q0`` and ``q1``.
 
 :func:`accessible_pair_census` samples random pairs and balanced pairs on
 several tables and records every pair with its outcome.
