@@ -18,6 +18,7 @@ import pytest
 
 import noslipsim as ns
 from noslipsim import initial, tables
+from noslipsim.experiments import accessible_pair_census
 
 distributed = pytest.importorskip("distributed")
 
@@ -65,6 +66,15 @@ def test_scheduler_and_workers_listen_on_loopback_only(cluster):
     with distributed.Client(cluster) as client:
         workers = client.scheduler_info(n_workers=-1)["workers"]
     assert len(workers) == 2 and all(w.startswith("tcp://127.0.0.1:") for w in workers)
+
+
+def test_the_accessible_pair_census_runs_on_the_cluster_with_the_same_rows(cluster):
+    """Figure S6's census, one table per task, by a scheduler address: the rows of the local run."""
+    kw = dict(pairs=2, seed=4)
+    there = accessible_pair_census(["wedge", "two disks"], scheduler=cluster, **kw)
+    here = accessible_pair_census(["wedge", "two disks"], scheduler="sync", **kw)
+    for name in ("table", "outcome", "reason", "s0", "s1", "n_found", "linear_kind", "eigen_sum"):
+        np.testing.assert_array_equal(there[name].values, here[name].values)
 
 
 @pytest.mark.parametrize("record", ["final", "log"])

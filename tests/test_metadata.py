@@ -117,6 +117,7 @@ EXPERIMENTS = {
     "polygon_portraits": lambda: ex.polygon_portraits((4, 5), n_orbits=3, n_collisions=20, **TINY),
     "lemon_sinai_portraits": lambda: ex.lemon_sinai_portraits(n_orbits=3, n_collisions=20, lyapunov_collisions=20,
                                                               **TINY),
+    "accessible_pair_census": lambda: ex.accessible_pair_census(["wedge", "two disks"], G, pairs=1),
 }
 
 

@@ -233,11 +233,31 @@ VARIABLES = {
                      "disks)", "1"),
     "search": ("search of the periodic-orbit finder, from one random start", "1"),
     "force_angle": ("direction of the force, counter-clockwise from straight down", "rad"),
-    "outcome": ("how the search ended: found, not converged, no return", "1"),
+    "outcome": ("how the search ended (found, not converged, no return) or the pair (found, not found, not "
+                "periodic, not minimal, unbalanced, inaccessible)", "1"),
     "isolated": ("1 if the orbit found has no eigenvalue 1 over its minimal period, 0 if it has, -1 if none "
                  "found", "1"),
     "itinerary": ("walls hit over one minimal period (L left, R right)", "1"),
     "distinct": ("1 on the first search that found its orbit (up to the wedge's scaling), else 0", "1"),
+    # ------------------------------------------------ experiments.accessible (Figure S6)
+    "pair": ("pair of boundary points", "1"),
+    "sample": ("how the pair was drawn: random (both points at random) or balanced (q1 solves beta = 0)", "1"),
+    "element0": ("element of q0", "1"),
+    "element1": ("element of q1", "1"),
+    "s0": ("arclength coordinate of q0 on its element", "1"),
+    "s1": ("arclength coordinate of q1 on its element", "1"),
+    "balance": ("beta = ((d.n1)(a.n0) + (d.n0)(a.n1)) / (|d| |a|): 0 on a pair that can carry a non-path-reversing "
+                "2-periodic orbit", "1"),
+    "mirror": ("1 if q0 and q1 are mirror images about a line along the force (points and normals)", "1"),
+    "reason": ("why the pair is inaccessible or no orbit was found ('' otherwise)", "1"),
+    "family": ("1 if the two-flight equations hold for every flight time (a one-parameter family)", "1"),
+    "n_candidates": ("flight-time pairs solving the two-flight equations (family: the members tried)", "1"),
+    "n_found": ("candidates the engine and the finder confirm as 2-periodic between q0 and q1", "1"),
+    "n_elliptic": ("confirmed orbits that are elliptic", "1"),
+    "n_hyperbolic": ("confirmed orbits that are hyperbolic", "1"),
+    "n_parabolic": ("confirmed orbits that are parabolic", "1"),
+    "flight_time": ("flight time T from q0 to q1 of the orbit kept (the pair's with the most even flights)", "1"),
+    "flight_time_back": ("flight time T' from q1 back to q0 of the orbit kept", "1"),
 }
 
 #: Names that mean exactly what another entry means, and take its entry.

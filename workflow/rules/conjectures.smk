@@ -1,11 +1,12 @@
-# Two of the paper's conjectures as experiments with counts (Figures S4, S5; docs/conjectures.md).
+# The paper's conjectures as experiments with counts (Figures S4, S5, S6; docs/conjectures.md).
 # Included after common.smk and before the rule files: it adds its entries to the tables (KERNELS,
 # DATASETS, FIGURES, NUMBERS, SCRIPTS) from which simulations.smk, figures.smk and report.smk
 # generate the rules, so the rules have the shape of every other one.
 
 # the two-disk orbits (plain tables) and the wedges under a force (walls+force), with logs (monodromy,
-# the finder) and simulate_many's records
-KERNELS["conjectures"] = ["plain:no-slip:log", "walls+force:no-slip:log", "walls+force:no-slip:none"]
+# the finder) and simulate_many's records; the polygons and disks under a force of Figure S6 (plain+force)
+KERNELS["conjectures"] = ["plain:no-slip:log", "walls+force:no-slip:log", "walls+force:no-slip:none",
+                          "plain+force:no-slip:log"]
 
 CONJECTURE_DATASETS = {
     "conjectures_launch": dataset("conjectures", "launch.nc", "launch", "conjecture_launch",
@@ -14,14 +15,19 @@ CONJECTURE_DATASETS = {
     "conjectures_census": dataset("conjectures", "census.nc", "census", "conjecture_census",
                                   lambda: {"common": stability_common(), "run": section("conjectures.census")},
                                   ENSEMBLE),
+    "conjectures_accessible": dataset("conjectures", "accessible.nc", "accessible", "conjecture_accessible",
+                                      lambda: {"common": stability_common(), "run": section("conjectures.accessible")},
+                                      ENSEMBLE),
 }
 CONJECTURE_FIGURES = {
     "figS4_launch_classes": figure("Conjectures", {"launch": "conjectures_launch"}),
     "figS5_periodic_census": figure("Conjectures", {"census": "conjectures_census"}),
+    "figS6_accessible_pairs": figure("Conjectures", {"accessible": "conjectures_accessible"}),
 }
 DATASETS.update(CONJECTURE_DATASETS)
 FIGURES.update(CONJECTURE_FIGURES)
-NUMBERS["conjectures"] = figure(None, {"launch": "conjectures_launch", "census": "conjectures_census"})
+NUMBERS["conjectures"] = figure(None, {"launch": "conjectures_launch", "census": "conjectures_census",
+                                       "accessible": "conjectures_accessible"})
 SCRIPTS.update({name: spec["script"] for name, spec in CONJECTURE_DATASETS.items()})
 SCRIPTS.update({name: name for name in CONJECTURE_FIGURES})
 SCRIPTS["numbers_conjectures"] = "numbers_conjectures"

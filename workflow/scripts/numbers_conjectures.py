@@ -1,5 +1,6 @@
-"""Counts of two of the paper's conjectures: the launch angle and the class of 2-periodic orbits (Figure S4),
-isolated and family periodic orbits of wedges under a force (Figure S5).  Counts, and shares to three digits."""
+"""Counts of three of the paper's conjectures: the launch angle and the class of 2-periodic orbits (Figure S4),
+isolated and family periodic orbits of wedges under a force (Figure S5), non-path-reversing 2-periodic orbits
+between accessible points (Figure S6).  Counts, and shares to three digits."""
 import json
 import sys
 
@@ -8,7 +9,7 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np
 import xarray as xr
 
-from noslipsim.experiments import census_counts
+from noslipsim.experiments import census_counts, pair_counts
 from noslipsim.plot.numbers import significant
 
 # shares k/n are exact ratios of counts: 6 significant digits (the table prints 3); the boundary
@@ -108,5 +109,65 @@ even = counts.minimal_period.values % 2 == 0
 numbers["census_isolated_even"] = dict(description="isolated distinct orbits of even minimal period",
                                        value=int(counts.isolated.values[even].sum()), format="d",
                                        paper="an isolated period-8 orbit (Figure 7)")
+# ------------------------------------------------------------------ accessible pairs (Figure S6)
+accessible = xr.load_dataset(snakemake.input.accessible)
+pairs = pair_counts(accessible).pairs.sum("table")
+sample, outcome = (accessible[k].values.astype(str) for k in ("sample", "outcome"))
+tables_note = ", ".join(pair_counts(accessible).table.values)
+n_random = int(pairs.sel(sample="random").sum())
+n_inacc = int(pairs.sel(sample="random", outcome="inaccessible"))
+numbers["accessible_random_pairs"] = dict(
+    description="random pairs of boundary points sampled on wedges, polygons, disks and mixed tables under a force",
+    value=n_random, format="d", note=f"{accessible.attrs['pairs']} per table: {tables_note}")
+numbers["accessible_share_inaccessible"] = dict(
+    description="share of the random pairs that are inaccessible (tangent lines form no wedge, or the chord meets "
+                "the table elsewhere)", value=significant(n_inacc / n_random, SHARE), format=".1%",
+    note=f"{n_inacc} of {n_random}")
+n_unbal = int(pairs.sel(sample="random", outcome="unbalanced"))
+numbers["accessible_share_unbalanced"] = dict(
+    description="share of the accessible random pairs that are unbalanced, so that no non-path-reversing "
+                "2-periodic orbit joins them (the normal velocity is reversed at both impacts)",
+    value=significant(n_unbal / (n_random - n_inacc), SHARE), format=".1%",
+    paper="non-path-reversing 2-periodic orbits exist between any two accessible points",
+    note=f"{n_unbal} of {n_random - n_inacc}")
+numbers["accessible_random_found"] = dict(description="random pairs joined by a non-path-reversing 2-periodic orbit",
+                                          value=int(pairs.sel(sample="random", outcome="found")), format="d")
+balanced = sample == "balanced"
+accessible_balanced = balanced & (outcome != "inaccessible")
+numbers["accessible_balanced_pairs"] = dict(
+    description="accessible balanced pairs (the only pairs that can carry the orbit), from the balanced partners "
+                "of random points", value=int(accessible_balanced.sum()), format="d",
+    note=f"and {int((balanced & (outcome == 'inaccessible')).sum())} inaccessible balanced pairs")
+for name in ("found", "not found", "not periodic", "not minimal"):
+    numbers[f"accessible_balanced_{name.replace(' ', '_')}"] = dict(
+        description=f"accessible balanced pairs that ended '{name}'", value=int((balanced & (outcome == name)).sum()),
+        format="d")
+reason = accessible.reason.values.astype(str)
+NO_TIMES = "T T' not positive"
+for key, why in (("spin_reversed", "spin reversed"), ("no_flight_times", NO_TIMES)):
+    numbers[f"accessible_not_found_{key}"] = dict(
+        description=f"balanced pairs not found because: {why}", value=int((balanced & (reason == why)).sum()),
+        format="d")
+found = outcome == "found"
+mirror, family = accessible.mirror.values.astype(bool), accessible.family.values.astype(bool)
+numbers["accessible_found_mirror"] = dict(
+    description="found pairs that are mirror images of each other about a line along the force",
+    value=int((found & mirror).sum()), format="d", note=f"of {int(found.sum())} found pairs")
+numbers["accessible_mirror_pairs"] = dict(
+    description="accessible balanced pairs that are mirror images about a line along the force",
+    value=int((accessible_balanced & mirror).sum()), format="d",
+    note=f"{int((accessible_balanced & mirror & (reason == NO_TIMES)).sum())} of them with T T' <= 0")
+numbers["accessible_asymmetric_found"] = dict(
+    description="accessible balanced pairs that are not mirror images and carry a confirmed orbit",
+    value=int((accessible_balanced & ~mirror & found).sum()), format="d",
+    note=f"of {int((accessible_balanced & ~mirror).sum())} such pairs")
+numbers["accessible_family_pairs"] = dict(
+    description="accessible balanced pairs whose orbits form a one-parameter family (the two-flight equations hold "
+                "for every flight time)", value=int((accessible_balanced & family).sum()), format="d",
+    note=f"of which {int((accessible_balanced & family & mirror).sum())} are mirror-symmetric")
+for kind in ("elliptic", "hyperbolic", "parabolic"):
+    numbers[f"accessible_orbits_{kind}"] = dict(
+        description=f"confirmed orbits (family members tried on found pairs) that are {kind}",
+        value=int(accessible[f"n_{kind}"].sum()), format="d")
 with open(snakemake.output.numbers, "w") as fh:
     json.dump(numbers, fh, indent=1, ensure_ascii=False)

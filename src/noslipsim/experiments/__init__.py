@@ -3,10 +3,11 @@
 One module per subject of the figure pipeline: :mod:`.galton` (Figures 2, 3, S1),
 :mod:`.orbits` (Figures 1, 4, 5, 6, 8, 16), :mod:`.stability` (Figures 7, 9, 14, 15) and
 :mod:`.portraits` (Figures 10-13), :mod:`.readings` (Figure 15 under every reading),
-:mod:`.conjectures` (Figures S4, S5: two of the paper's conjectures, counted),
+:mod:`.conjectures` (Figures S4, S5) and :mod:`.accessible` (Figure S6): the paper's conjectures, counted,
 over :mod:`.orbit_sets` (several orbits as one dataset).
 ``EXPERIMENTS`` names those a config file can run (``noslipsim run``).
 """
+from .accessible import accessible_pair_census, pair_counts
 from .conjectures import census_counts, launch_angle_classes, wedge_periodic_census
 from .galton import galton_cases, galton_distribution, galton_evidence, galton_orbits, galton_radius_sweep
 from .orbit_sets import orbit_set, phase_portrait
@@ -45,6 +46,7 @@ __all__ = [
     "DISSIPATIVE_READINGS",
     "EXPERIMENTS",
     "HEX_READINGS",
+    "accessible_pair_census",
     "bounce_orbits",
     "census_counts",
     "galton_cases",
@@ -59,6 +61,7 @@ __all__ = [
     "lemon_sinai_portraits",
     "newwedge_orbits",
     "orbit_set",
+    "pair_counts",
     "pentagon_orbits",
     "perturbed_wedge_orbits",
     "phase_portrait",
