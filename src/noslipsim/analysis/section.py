@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from .._engine.run import run_orbits
-from .._engine.table import kernel_table, require_compiled_flight
+from .._engine.table import kernel_table
 from ..core import layout
 from ..core.batch import F_NREC, F_STOP
 from ..scenes import Scene
@@ -72,7 +72,7 @@ def boundary_frames(scene: Scene, element, s):
     sigma : (N,)
         ``ds/dl``, +1 or -1.
     """
-    require_compiled_flight(scene)
+    kernel_table(scene)  # s is the compiled engine's coordinate: refuse a scene it does not pack
     e = np.asarray(element, dtype=np.int64)
     s = np.asarray(s, dtype=float)
     N = len(e)
