@@ -14,6 +14,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "src" / "noslipsim"
 RANKS = {
     "core": 0,                                   # numba kernels on plain arrays
     "_unit": 1, "_validate": 1, "_version": 1, "_metadata": 1, "_netcdf": 1,   # private helpers
+    "outline": 1,                                # drawing primitives (plain coordinates), below elements
     "elements": 2,
     "_engine": 3,                                # scene -> kernels: canonical form, packing, the one call
     "scenes": 4,

@@ -24,13 +24,14 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from ._unit import unit_pair
 from ._validate import finite_float, finite_vector, no_unknown_keys, required
 from .core import layout
+from .outline import Curve, Disc, Wall
 
 TWO_PI = 2.0 * math.pi
 
@@ -90,8 +91,171 @@ def _side(value, allowed, field):
     return value
 
 
+class StraightCarrier(NamedTuple):
+    """The straight line an element lies on: through ``point`` along ``direction`` (arrays, not unit)."""
+
+    point: np.ndarray
+    direction: np.ndarray
+
+
+class RoundCarrier(NamedTuple):
+    """The circle an element lies on."""
+
+    center: np.ndarray
+    radius: float
+
+
+#: The methods every element kind implements itself (``tests/test_element_protocol.py`` checks
+#: them); :class:`BoundaryElement` gives the others a default that fits most kinds.
+PROTOCOL = ("from_dict", "to_dict", "params", "size", "length", "bbox", "shifted", "side_distance",
+            "distance", "features", "outline", "carrier", "frame_at", "at_fraction", "at_arclength",
+            "orientation")
+
+
+class BoundaryElement:
+    """What every element kind knows about itself, so that nothing outside switches on its class.
+
+    A kind subclasses this (as a frozen dataclass), sets the class attributes
+    ``kind`` (its kernel code, :mod:`noslipsim.core.layout`), ``type_name``
+    (its scene-file ``type``), ``finite`` (a finite set of points: the inside
+    test measures the distance to it, not to its carrier) and ``bounded``
+    (``False`` for an infinite line), implements every method named in
+    :data:`PROTOCOL`, and is added to :data:`ELEMENT_TYPES`.  The methods with
+    a body here are defaults that a kind overrides where they do not fit.
+    docs/extending.md lists the other files a new kind touches.
+    """
+
+    bounded = True
+
+    def _missing(self, name):
+        raise NotImplementedError(f"{type(self).__name__} does not implement {name}() (elements.PROTOCOL)")
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any], where: str = "element"):
+        """Build the element from its scene-file mapping (docs/scenes.md); errors name ``where`` and the field."""
+        raise NotImplementedError(f"{cls.__name__} does not implement from_dict() (elements.PROTOCOL)")
+
+    def to_dict(self) -> dict[str, Any]:
+        """The element as its scene-file mapping (the inverse of :meth:`from_dict`)."""
+        self._missing("to_dict")
+
+    def params(self) -> list[float]:
+        """The element's kernel parameter row (``core/layout.py``)."""
+        self._missing("params")
+
+    def exact_params(self) -> dict[int, float]:
+        """Extra kernel columns ``{column: value}`` beyond :meth:`params` (none by default)."""
+        return {}
+
+    def size(self) -> float:
+        """Largest coordinate magnitude of the element: its contribution to the scene's length scale."""
+        self._missing("size")
+
+    def length(self) -> float:
+        """Arclength of the element (``inf`` for an unbounded one)."""
+        self._missing("length")
+
+    def bbox(self) -> tuple[float, float, float, float]:
+        """``(x0, y0, x1, y1)``: an axis-aligned box holding the element."""
+        self._missing("bbox")
+
+    def shifted(self, dx: float, dy: float):
+        """The same element translated by ``(dx, dy)``."""
+        self._missing("shifted")
+
+    def side_distance(self, pts: np.ndarray) -> np.ndarray:
+        """Signed distance of ``pts`` (``(..., 2)``) to the element's carrier, positive on the table side."""
+        self._missing("side_distance")
+
+    def distance(self, pts: np.ndarray) -> np.ndarray:
+        """Euclidean distance of ``pts`` (``(..., 2)``) to the element itself."""
+        self._missing("distance")
+
+    def features(self) -> list[tuple[str, float]]:
+        """``[(what, size), ...]``: the lengths of the element that must resolve against the table's size."""
+        self._missing("features")
+
+    def feature_scale(self) -> float:
+        """The element's first feature (a length or a radius; ``inf`` for none): what ``long_walls`` compares."""
+        features = self.features()
+        return features[0][1] if features else math.inf
+
+    def long_wall(self, smallest: float) -> bool:
+        """Whether a hit far from the element's start can cancel its plain distance (``layout.LONG_WALL``).
+
+        ``smallest`` is the table's smallest :meth:`feature_scale`; curves never are.
+        """
+        return False
+
+    def disk(self) -> tuple[tuple, float] | None:
+        """``(center, radius)`` when the element is a disk scatterer (a full circle, table outside), else None."""
+        return None
+
+    def half_plane(self) -> tuple[tuple, tuple] | None:
+        """``(point, inward normal)`` when the element bounds a half plane (an infinite line), else None."""
+        return None
+
+    def outline(self, dx: float = 0.0, dy: float = 0.0) -> tuple:
+        """How the element is drawn, shifted by ``(dx, dy)``: a tuple of :mod:`noslipsim.outline` primitives.
+
+        Infinite lines give none: the plot layer clips them to the window and
+        to each other (:meth:`half_plane`).
+        """
+        self._missing("outline")
+
+    def view_points(self) -> list[np.ndarray]:
+        """Points a view of the table must hold to show the element (the corners of its box by default)."""
+        x0, y0, x1, y1 = self.bbox()
+        return [np.array([x0, y0]), np.array([x1, y1])]
+
+    def carrier(self) -> StraightCarrier | RoundCarrier:
+        """The straight line or circle the element lies on (where junctions are found)."""
+        self._missing("carrier")
+
+    def end_frames(self) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """For each end: ``(point, unit direction into the element, inward unit normal)``; none by default."""
+        return []
+
+    def frame_at(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``(point, n_out, turn, sigma)`` at arclength ``s`` in the engine's coordinate (``(N,)``).
+
+        ``point`` and the outward unit normal ``n_out`` are ``(N, 2)``;
+        ``turn`` is ``k`` with ``dn/dl = k t`` along ``t = J n_out``, and
+        ``sigma`` is ``ds/dl`` (either may be a scalar).
+        """
+        self._missing("frame_at")
+
+    def at_fraction(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(point, n_out)`` (each ``(N, 2)``) at the fractions ``u`` in ``[0, 1]`` of the way along."""
+        self._missing("at_fraction")
+
+    def at_arclength(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(point, n_out)`` (each ``(N, 2)``) at arclength ``s`` in ``[0, length]`` from the element's start."""
+        self._missing("at_arclength")
+
+    def orientation(self) -> float:
+        """+1 if the element's own ``s`` increases along ``t = J n_out``, else -1."""
+        self._missing("orientation")
+
+    def local_s(self, s: np.ndarray) -> np.ndarray:
+        """The element's own ``s`` (as the engine reports it) brought into ``[0, length]``."""
+        return np.clip(s, 0.0, self.length())
+
+    def wrap_arclength(self, ds: np.ndarray) -> np.ndarray:
+        """``ds`` reduced to ``(-L/2, L/2]`` on a closed element of length ``L`` (unchanged by default)."""
+        return ds
+
+
+def _straight_frame(p, ux, uy, s):
+    """:meth:`BoundaryElement.frame_at` of a straight piece: kernel row ``p``, ``s`` running along ``(ux, uy)``."""
+    # n_out = -n_in, t = J n_out; s runs from the piece's point along t (line) or p0 -> p1 (segment)
+    tx, ty = p[3], -p[2]
+    point = np.c_[p[0] + s * ux, p[1] + s * uy]
+    return point, np.broadcast_to(np.array([-p[2], -p[3]]), point.shape), 0.0, ux * tx + uy * ty
+
+
 @dataclass(frozen=True)
-class Line:
+class Line(BoundaryElement):
     """Infinite line through ``point``; ``normal`` is the unit normal into the table.
 
     ``law`` (keyword only): the element's own collision law, ``'specular'`` or
@@ -104,6 +268,7 @@ class Line:
     kind = layout.LINE
     type_name = "line"
     finite = False
+    bounded = False
 
     def __post_init__(self) -> None:
         self._validate("line")
@@ -151,9 +316,55 @@ class Line:
         """The same element translated by ``(dx, dy)``."""
         return Line((self.point[0] + dx, self.point[1] + dy), self.normal, law=self.law)
 
+    def distance(self, pts: np.ndarray) -> np.ndarray:
+        """Euclidean distance to the line: ``|side_distance|``."""
+        return np.abs(self.side_distance(pts))
+
+    def features(self) -> list[tuple[str, float]]:
+        """None: a line has no length to resolve."""
+        return []
+
+    def long_wall(self, smallest: float) -> bool:
+        """Always: a line carries hits arbitrarily far from its point."""
+        return True
+
+    def half_plane(self) -> tuple[tuple, tuple]:
+        """``(point, inward normal)``: the table lies in this half plane."""
+        return self.point, self.normal
+
+    def outline(self, dx: float = 0.0, dy: float = 0.0) -> tuple:
+        """None: the plot layer draws a line clipped to the window and the other lines (:meth:`half_plane`)."""
+        return ()
+
+    def view_points(self) -> list[np.ndarray]:
+        """The line's anchor ``point``: a view of a floor under a peg holds the floor."""
+        return [np.asarray(self.point, float)]
+
+    def carrier(self) -> StraightCarrier:
+        """The line itself, along ``J normal``."""
+        n = np.array(self.normal)
+        return StraightCarrier(np.array(self.point, float), np.array([-n[1], n[0]]))
+
+    def frame_at(self, s):
+        """Frame at ``s`` along ``t = J n_out`` from ``point`` (see :meth:`BoundaryElement.frame_at`)."""
+        p = self.params()
+        return _straight_frame(p, p[3], -p[2], s)
+
+    def at_fraction(self, u):
+        """Refused: an infinite line has no fraction of the way along."""
+        raise ValueError("an infinite line has no length to lay points along")
+
+    def at_arclength(self, s):
+        """Refused: an infinite line has no start to measure arclength from."""
+        raise ValueError("an infinite line has no length to lay points along")
+
+    def orientation(self) -> float:
+        """+1: a line's ``s`` runs along ``t``."""
+        return 1.0
+
 
 @dataclass(frozen=True)
-class Segment:
+class Segment(BoundaryElement):
     """One-sided segment ``p0 -> p1``; the table lies on ``side`` ('left' or 'right').
 
     ``law`` (keyword only): the element's own collision law, ``'specular'`` or
@@ -239,9 +450,107 @@ class Segment:
         u = np.clip(rx * ux + ry * uy, 0.0, L)
         return np.hypot(rx - u * ux, ry - u * uy)
 
+    def features(self) -> list[tuple[str, float]]:
+        """Its length."""
+        return [("length", self.length())]
+
+    def long_wall(self, smallest: float) -> bool:
+        """Whether the segment is long against the table's smallest feature (``layout.LONG_WALL_RATIO``)."""
+        return self.length() > layout.LONG_WALL_RATIO * smallest
+
+    def outline(self, dx: float = 0.0, dy: float = 0.0) -> tuple:
+        """One straight wall."""
+        return (Wall([(self.p0[0] + dx, self.p0[1] + dy), (self.p1[0] + dx, self.p1[1] + dy)]),)
+
+    def carrier(self) -> StraightCarrier:
+        """The line through ``p0`` along ``p1 - p0``."""
+        p0, p1 = np.array(self.p0, float), np.array(self.p1, float)
+        return StraightCarrier(p0, p1 - p0)
+
+    def end_frames(self):
+        """``p0`` and ``p1``, each with the unit direction into the segment and the inward normal."""
+        p0, p1 = np.array(self.p0, float), np.array(self.p1, float)
+        d = (p1 - p0) / np.linalg.norm(p1 - p0)
+        n_in = np.array(self.params()[2:4])
+        return [(p0, d, n_in), (p1, -d, n_in)]
+
+    def frame_at(self, s):
+        """Frame at ``s`` from ``p0`` towards ``p1`` (see :meth:`BoundaryElement.frame_at`)."""
+        p = self.params()
+        return _straight_frame(p, p[4], p[5], s)
+
+    def at_fraction(self, u):
+        """``(point, n_out)`` at ``p0 + u (p1 - p0)``."""
+        p0, p1 = np.array(self.p0), np.array(self.p1)
+        pt = p0 + u[:, None] * (p1 - p0)
+        return pt, np.broadcast_to(-np.array(self.params()[2:4]), pt.shape)
+
+    def at_arclength(self, s):
+        """``(point, n_out)`` at distance ``s`` from ``p0`` towards ``p1``."""
+        x0, y0, nx, ny, ux, uy, _ = self.params()  # start, inward normal, unit direction, length
+        pt = np.array([x0, y0]) + s[:, None] * np.array([ux, uy])
+        return pt, np.broadcast_to(np.array([-nx, -ny]), pt.shape)
+
+    def orientation(self) -> float:
+        """+1 when the table is on the left (``s`` runs along ``t``), else -1."""
+        return 1.0 if self.side == "left" else -1.0
+
+
+class _Round(BoundaryElement):
+    """What circles and arcs share: a curve of ``center`` and ``radius``, the table on ``side``."""
+
+    #: The angle the engine's ``s`` is measured from (``frame_at``) and the one its own ``s`` starts at.
+    _kernel_theta0 = 0.0
+    _theta_start = 0.0
+
+    @property
+    def sigma(self) -> float:
+        """``+1`` when the table lies outside the circle (a scatterer), ``-1`` inside (a container)."""
+        return 1.0 if self.side == "outside" else -1.0
+
+    def size(self) -> float:
+        """Largest coordinate magnitude of the element: its contribution to the scene's length scale."""
+        return max(abs(self.center[0]) + self.radius, abs(self.center[1]) + self.radius)
+
+    def bbox(self) -> tuple[float, float, float, float]:
+        """``(x0, y0, x1, y1)``: the bounding box of the full circle (conservative for an arc)."""
+        c, r = self.center, self.radius
+        return (c[0] - r, c[1] - r, c[0] + r, c[1] + r)
+
+    def side_distance(self, pts: np.ndarray) -> np.ndarray:
+        """Signed distance ``sigma (|q - c| - r)`` to the (supporting) circle, positive on the table side."""
+        rho = np.hypot(pts[..., 0] - self.center[0], pts[..., 1] - self.center[1])
+        return self.sigma * (rho - self.radius)
+
+    def carrier(self) -> RoundCarrier:
+        """The (supporting) circle."""
+        return RoundCarrier(np.array(self.center, float), self.radius)
+
+    def _points(self, angle):
+        """``(point, n_out)`` at the polar angles ``angle``."""
+        radial = np.c_[np.cos(angle), np.sin(angle)]
+        return np.array(self.center) + self.radius * radial, -self.sigma * radial
+
+    def frame_at(self, s):
+        """Frame at ``s = r (theta - theta0)`` (see :meth:`BoundaryElement.frame_at`)."""
+        # point c + r e(theta), n_out = -sigma_c e, t = -sigma_c e_theta
+        r, sig = self.radius, self.sigma
+        theta = self._kernel_theta0 + s / r
+        cos, sin = np.cos(theta), np.sin(theta)
+        return (np.c_[self.center[0] + r * cos, self.center[1] + r * sin], np.c_[-sig * cos, -sig * sin],
+                -sig / r, -sig)
+
+    def at_arclength(self, s):
+        """``(point, n_out)`` at arclength ``s`` counter-clockwise from the start angle."""
+        return self._points(self._theta_start + s / self.radius)
+
+    def orientation(self) -> float:
+        """``-sigma``: ``s`` runs counter-clockwise, ``t`` clockwise on a scatterer (``sigma = +1``)."""
+        return -self.sigma
+
 
 @dataclass(frozen=True)
-class Circle:
+class Circle(_Round):
     """Full circle; ``side='outside'`` is a scatterer, ``'inside'`` a container.
 
     ``law`` (keyword only): the element's own collision law, ``'specular'`` or
@@ -278,40 +587,51 @@ class Circle:
         return _with_law({"type": "circle", "center": list(self.center), "radius": self.radius, "side": self.side},
                          self.law)
 
-    @property
-    def sigma(self) -> float:
-        """``+1`` when the table lies outside the circle (a scatterer), ``-1`` inside (a container)."""
-        return 1.0 if self.side == "outside" else -1.0
-
     def params(self) -> list[float]:
         """Kernel parameter row ``[cx, cy, r, sigma]``."""
         return [self.center[0], self.center[1], self.radius, self.sigma]
-
-    def size(self) -> float:
-        """Largest coordinate magnitude of the element: its contribution to the scene's length scale."""
-        return max(abs(self.center[0]) + self.radius, abs(self.center[1]) + self.radius)
 
     def length(self) -> float:
         """Circumference ``2 pi r``."""
         return TWO_PI * self.radius
 
-    def bbox(self) -> tuple[float, float, float, float]:
-        """``(x0, y0, x1, y1)``: the axis-aligned bounding box (infinite for a line)."""
-        c, r = self.center, self.radius
-        return (c[0] - r, c[1] - r, c[0] + r, c[1] + r)
-
     def shifted(self, dx: float, dy: float) -> Circle:
         """The same element translated by ``(dx, dy)``."""
         return Circle((self.center[0] + dx, self.center[1] + dy), self.radius, self.side, law=self.law)
 
-    def side_distance(self, pts: np.ndarray) -> np.ndarray:
-        """Signed distance ``sigma (|q - c| - r)`` to the circle, positive on the table side."""
-        rho = np.hypot(pts[..., 0] - self.center[0], pts[..., 1] - self.center[1])
-        return self.sigma * (rho - self.radius)
+    def distance(self, pts: np.ndarray) -> np.ndarray:
+        """Euclidean distance to the circle: ``|side_distance|``."""
+        return np.abs(self.side_distance(pts))
+
+    def features(self) -> list[tuple[str, float]]:
+        """Its radius."""
+        return [("radius", self.radius)]
+
+    def disk(self) -> tuple[tuple, float] | None:
+        """``(center, radius)`` for a scatterer (``side='outside'``), None for a container."""
+        return (self.center, self.radius) if self.side == "outside" else None
+
+    def outline(self, dx: float = 0.0, dy: float = 0.0) -> tuple:
+        """A filled disc (a scatterer) or an unfilled circle (a container)."""
+        c = (self.center[0] + dx, self.center[1] + dy)
+        return (Disc(c, self.radius) if self.side == "outside" else Curve(c, self.radius),)
+
+    def at_fraction(self, u):
+        """``(point, n_out)`` at the angles ``2 pi u``."""
+        return self._points(0.0 + u * (TWO_PI - 0.0))
+
+    def local_s(self, s: np.ndarray) -> np.ndarray:
+        """``s`` modulo the circumference."""
+        return np.mod(s, TWO_PI * self.radius)
+
+    def wrap_arclength(self, ds: np.ndarray) -> np.ndarray:
+        """``ds`` reduced to ``(-L/2, L/2]``, ``L`` the circumference."""
+        L = self.length()
+        return ds - L * np.round(ds / L)
 
 
 @dataclass(frozen=True)
-class Arc:
+class Arc(_Round):
     """CCW arc of a circle from ``theta0`` to ``theta1`` (radians); table on ``side``.
 
     ``law`` (keyword only): the element's own collision law, ``'specular'`` or
@@ -359,27 +679,21 @@ class Arc:
                           "theta0": self.theta0, "theta1": self.theta1, "side": self.side}, self.law)
 
     @property
-    def sigma(self) -> float:
-        """``+1`` when the table lies outside the circle (a scatterer), ``-1`` inside (a container)."""
-        return 1.0 if self.side == "outside" else -1.0
+    def _kernel_theta0(self) -> float:
+        return self.theta0 % TWO_PI  # the kernel row's start angle (params)
+
+    @property
+    def _theta_start(self) -> float:
+        return self.theta0
 
     def params(self) -> list[float]:
         """Kernel parameter row ``[cx, cy, r, sigma, theta0 mod 2 pi, span]``."""
         return [self.center[0], self.center[1], self.radius, self.sigma,
                 self.theta0 % TWO_PI, self.theta1 - self.theta0]
 
-    def size(self) -> float:
-        """Largest coordinate magnitude of the element: its contribution to the scene's length scale."""
-        return max(abs(self.center[0]) + self.radius, abs(self.center[1]) + self.radius)
-
     def length(self) -> float:
         """Arc length ``r (theta1 - theta0)``."""
         return self.radius * (self.theta1 - self.theta0)
-
-    def bbox(self) -> tuple[float, float, float, float]:
-        """``(x0, y0, x1, y1)``: the bounding box of the full circle (conservative for an arc)."""
-        c, r = self.center, self.radius
-        return (c[0] - r, c[1] - r, c[0] + r, c[1] + r)
 
     def shifted(self, dx: float, dy: float) -> Arc:
         """The same element translated by ``(dx, dy)``."""
@@ -390,11 +704,6 @@ class Arc:
         """The arc's two end points, at ``theta0`` and ``theta1``."""
         c, r = self.center, self.radius
         return [(c[0] + r * math.cos(a), c[1] + r * math.sin(a)) for a in (self.theta0, self.theta1)]
-
-    def side_distance(self, pts: np.ndarray) -> np.ndarray:
-        """Signed distance ``sigma (|q - c| - r)`` to the supporting circle, positive on the table side."""
-        rho = np.hypot(pts[..., 0] - self.center[0], pts[..., 1] - self.center[1])
-        return self.sigma * (rho - self.radius)
 
     def distance(self, pts: np.ndarray) -> np.ndarray:
         """Euclidean distance to the arc (a finite set): to the curve within its span, else to the nearer end."""
@@ -407,10 +716,46 @@ class Arc:
                             np.hypot(pts[..., 0] - bx, pts[..., 1] - by))
         return np.where(on_span, d_curve, d_ends)
 
+    def features(self) -> list[tuple[str, float]]:
+        """Its radius and its arclength."""
+        return [("radius", self.radius), ("arc length", self.length())]
+
+    def outline(self, dx: float = 0.0, dy: float = 0.0) -> tuple:
+        """One unfilled arc."""
+        return (Curve((self.center[0] + dx, self.center[1] + dy), self.radius, self.theta0, self.theta1),)
+
+    def view_points(self) -> list[np.ndarray]:
+        """The corners of the arc's tight box: its ends and the axis points it passes through."""
+        span = (self.theta1 - self.theta0) % TWO_PI or TWO_PI
+        angles = [self.theta0, self.theta0 + span] + [k * math.pi / 2 for k in range(8)
+                                                       if 0.0 <= (k * math.pi / 2 - self.theta0) % TWO_PI <= span]
+        xs = [self.center[0] + self.radius * math.cos(a) for a in angles]
+        ys = [self.center[1] + self.radius * math.sin(a) for a in angles]
+        return [np.array([min(xs), min(ys)]), np.array([max(xs), max(ys)])]
+
+    def end_frames(self):
+        """The ends at ``theta0`` and ``theta1``, each with the unit direction into the arc and the inward normal."""
+        out = []
+        for ang, sgn in ((self.theta0, 1.0), (self.theta1, -1.0)):
+            radial = np.array([math.cos(ang), math.sin(ang)])
+            pt = np.array(self.center, float) + self.radius * radial
+            out.append((pt, sgn * np.array([-radial[1], radial[0]]), self.sigma * radial))
+        return out
+
+    def at_fraction(self, u):
+        """``(point, n_out)`` at the angles ``theta0 + u (theta1 - theta0)``."""
+        return self._points(self.theta0 + u * (self.theta1 - self.theta0))
+
+    def local_s(self, s: np.ndarray) -> np.ndarray:
+        """``s`` in ``[0, length]``: a hit just before ``theta0`` comes back as nearly ``2 pi r`` (its angle wraps)."""
+        s = np.where(s > 0.5 * (self.length() + TWO_PI * self.radius), s - TWO_PI * self.radius, s)
+        return np.clip(s, 0.0, self.length())
+
 
 #: Any table element.
 Element = Line | Segment | Circle | Arc
 
+#: Every element kind, by its scene-file ``type``.
 ELEMENT_TYPES = {cls.type_name: cls for cls in (Line, Segment, Circle, Arc)}
 
 

@@ -110,7 +110,7 @@ def check_starts(scene: Scene, positions, velocities, spins, start_elements=None
         idx = np.flatnonzero(on == k)
         e = scene.elements[k]
         dist = np.abs(e.side_distance(q[idx]))
-        off = np.maximum(dist, e.distance(q[idx]) if e.finite else dist)
+        off = np.maximum(dist, e.distance(q[idx]))
         if (off > tol).any():
             raise ValueError(f"positions: orbit {int(idx[np.argmax(off > tol)])} is not on start element {k}")
         speed = np.maximum(np.hypot(v[idx, 0], v[idx, 1]), 1e-300)

@@ -13,7 +13,6 @@ import math
 
 import numpy as np
 
-from .elements import Arc, Circle, Segment
 from .scenes import Scene
 
 #: Rejection sampling gives up after this many rounds (each draws twice the remainder).
@@ -103,22 +102,6 @@ def uniform_in_region(scene: Scene, n, box, seed=0):
     return out[:n]
 
 
-def _point_on(e, u):
-    """Point, outward normal and tangent at fraction ``u`` along a finite element."""
-    if isinstance(e, Segment):
-        p0, p1 = np.array(e.p0), np.array(e.p1)
-        pt = p0 + u[:, None] * (p1 - p0)
-        n_in = np.array(e.params()[2:4])
-        n_out = np.broadcast_to(-n_in, pt.shape)
-    else:
-        t0, t1 = (0.0, 2 * math.pi) if isinstance(e, Circle) else (e.theta0, e.theta1)
-        th = t0 + u * (t1 - t0)
-        radial = np.c_[np.cos(th), np.sin(th)]
-        pt = np.array(e.center) + e.radius * radial
-        n_out = -e.sigma * radial
-    return pt, n_out
-
-
 def boundary_states(scene: Scene, n, seed=0, elements=None):
     """Starts on the boundary, uniform in the reduced phase space.
 
@@ -131,7 +114,7 @@ def boundary_states(scene: Scene, n, seed=0, elements=None):
     n = _count(n)
     idx = list(range(len(scene.elements))) if elements is None else [int(i) for i in elements]
     for i in idx:
-        if not 0 <= i < len(scene.elements) or not isinstance(scene.elements[i], (Segment, Circle, Arc)):
+        if not 0 <= i < len(scene.elements) or not scene.elements[i].bounded:
             raise ValueError(f"elements: {i} is not a segment, circle or arc of the scene")
     lengths = np.array([scene.elements[i].length() for i in idx])
     rng = rng_from(seed)
@@ -141,7 +124,7 @@ def boundary_states(scene: Scene, n, seed=0, elements=None):
     n_out = np.empty((n, 2))
     for k, i in enumerate(idx):
         sel = pick == k
-        pos[sel], n_out[sel] = _point_on(scene.elements[i], u[sel])
+        pos[sel], n_out[sel] = scene.elements[i].at_fraction(u[sel])
     t = np.c_[-n_out[:, 1], n_out[:, 0]]
     if scene.any_noslip:  # the spin takes part (some element collides by the no-slip law)
         z = rng.normal(size=(n, 3))

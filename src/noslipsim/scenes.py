@@ -33,7 +33,7 @@ from ._unit import unit_pair
 from ._validate import finite_vector, no_unknown_keys, nonnegative, read_yaml, required
 from .core import layout
 from .core.laws import noslip_coefficients
-from .elements import Arc, Circle, Line, Segment, check_closed_chains, element_from_dict, law_name
+from .elements import BoundaryElement, check_closed_chains, element_from_dict, law_name
 
 LAWS = {"no-slip": layout.NOSLIP, "noslip": layout.NOSLIP, "specular": layout.SPECULAR}
 _SCENE_KEYS = {"law", "gamma", "force", "thermostat", "magnetic", "elements", "lattice", "top"}
@@ -116,7 +116,7 @@ def _element_tuple(elements):
         raise TypeError(f"elements: expected a sequence of Line, Segment, Circle or Arc, "
                         f"got {type(elements).__name__}") from None
     for i, e in enumerate(out):
-        if not isinstance(e, (Line, Segment, Circle, Arc)):
+        if not isinstance(e, BoundaryElement):
             raise TypeError(f"elements[{i}]: expected a Line, Segment, Circle or Arc (or use Scene.from_dict "
                             f"for mappings), got {type(e).__name__}")
     return out
@@ -130,9 +130,10 @@ LATTICE_MIN_SEGMENT = 1e-9
 def _check_lattice_segments(elements, lattice):
     size = max(math.hypot(*lattice["a1"]), math.hypot(*lattice["a2"]))
     for i, e in enumerate(elements):
-        if e.type_name == "segment" and not e.length() > LATTICE_MIN_SEGMENT * size:
-            raise ValueError(f"elements[{i}]: a segment of length {e.length():.3g} is too short for a lattice "
-                             f"of size {size:.3g} (at least {LATTICE_MIN_SEGMENT:g} times it)")
+        for what, value in e.features():
+            if what == "length" and not value > LATTICE_MIN_SEGMENT * size:
+                raise ValueError(f"elements[{i}]: a {e.type_name} of length {value:.3g} is too short for a "
+                                 f"lattice of size {size:.3g} (at least {LATTICE_MIN_SEGMENT:g} times it)")
 
 
 #: Range of validity (docs/conventions.md, "Range of validity"): lengths (the table's size, a
@@ -160,17 +161,6 @@ MAX_THERMOSTAT_FIELD = 1e6
 _RANGE_DOC = "docs/conventions.md, 'Range of validity'"
 
 
-def _features(e):
-    """``[(what, size), ...]``: the lengths of an element that must resolve against the table's size."""
-    if e.type_name == "segment":
-        return [("length", e.length())]
-    if e.type_name == "circle":
-        return [("radius", e.radius)]
-    if e.type_name == "arc":
-        return [("radius", e.radius), ("arc length", e.length())]
-    return []
-
-
 def table_size(elements, lattice=None) -> float:
     """The table's length scale: its largest coordinate magnitude (and lattice vector), ``0`` for lines through 0."""
     size = max(e.size() for e in elements)
@@ -190,7 +180,7 @@ def _check_magnitudes(scene):
                          f"{MIN_MAGNITUDE:g} ({_RANGE_DOC}): use a smaller length unit")
     floor = max(MIN_FEATURE * size, MIN_MAGNITUDE)
     for i, e in enumerate(scene.elements):
-        for what, value in _features(e):
+        for what, value in e.features():
             if not value >= floor:
                 why = (f"{MIN_FEATURE:g} times the table's size {size:.3g}: it would lie within the engine's "
                        "tolerances" if floor > MIN_MAGNITUDE else
@@ -218,8 +208,8 @@ def _check_not_covered(elements, lattice):
     take more away); the test is :func:`noslipsim._engine.lattice.disks_cover_plane`, exact
     for one disk and never refusing a table that has points for several.
     """
-    which = [i for i, e in enumerate(elements) if isinstance(e, Circle) and e.side == "outside"]
-    if not which or not disks_cover_plane([(elements[i].center, elements[i].radius) for i in which], lattice):
+    which = [i for i, e in enumerate(elements) if e.disk() is not None]
+    if not which or not disks_cover_plane([elements[i].disk() for i in which], lattice):
         return
     if len(which) == 1:
         i = which[0]
@@ -309,7 +299,7 @@ class Scene:
             _check_copies(self.elements, self.lattice)
             _check_lattice_segments(self.elements, self.lattice)
             for i, e in enumerate(self.elements):
-                if isinstance(e, Line):
+                if not e.bounded:
                     raise ValueError(f"elements[{i}]: infinite lines cannot be repeated on a lattice")
             if self.top is None:  # a bounded lattice has its table above the top row
                 _check_not_covered(self.elements, self.lattice)
@@ -331,7 +321,7 @@ class Scene:
         if self.lattice is None:
             raise ValueError("top: only a lattice has a top row; this scene has no lattice")
         for i, e in enumerate(self.elements):
-            if not (isinstance(e, Circle) and e.side == "outside"):
+            if e.disk() is None:
                 raise ValueError(f"top: a bounded lattice needs circle scatterers (side outside) only; "
                                  f"elements[{i}] is a {e.type_name}")
         if self.thermostat is not None:
@@ -505,7 +495,7 @@ class Scene:
     @property
     def smallest_feature(self) -> float:
         """The shortest segment, smallest radius or arc length of the table (``inf`` for lines only)."""
-        return float(min((v for e in self.elements for _, v in _features(e)), default=math.inf))
+        return float(min((v for e in self.elements for _, v in e.features()), default=math.inf))
 
     @property
     def scale(self) -> float:

@@ -198,7 +198,7 @@ def closed_hex_cell(radius=0.4, *, law="no-slip", gamma=UNIFORM_DISK, force=(0.0
                     gamma=gamma, force=force)
     if wall_law is None:
         return scene
-    walls = tuple(dataclasses.replace(e, law=wall_law) if isinstance(e, Segment) else e for e in scene.elements)
+    walls = tuple(dataclasses.replace(e, law=wall_law) if e.disk() is None else e for e in scene.elements)
     return scene.replace(elements=walls)
 
 

@@ -15,50 +15,38 @@ import math
 import numpy as np
 
 from ..core.tolerances import JUNCTION_GATE, NONCONVEX_END_FACTOR  # noqa: F401  (the gate: used by the kernel)
-from ..elements import Arc, Circle, Line, Segment
+from ..elements import RoundCarrier, StraightCarrier
 
 #: Relative tolerance for "on the element" and for near-tangencies.
 _ON_TOL = 1e-9
-
-
-def _straight(e):
-    if isinstance(e, Line):
-        n = np.array(e.normal)
-        return np.array(e.point, float), np.array([-n[1], n[0]])
-    p0, p1 = np.array(e.p0, float), np.array(e.p1, float)
-    return p0, p1 - p0
 
 
 def _on(e, pts, tol):
     if not len(pts):
         return pts
     pts = np.asarray(pts, float).reshape(-1, 2)
-    if isinstance(e, (Line, Circle)):
-        d = np.abs(e.side_distance(pts))
-    else:
-        d = e.distance(pts)
-    return pts[d <= tol]
+    return pts[e.distance(pts) <= tol]
 
 
 def _meet(a, b, tol):
-    """Points where elements ``a`` and ``b`` meet (within ``tol``)."""
-    if isinstance(a, (Circle, Arc)) and isinstance(b, (Line, Segment)):
-        a, b = b, a
+    """Points where elements ``a`` and ``b`` meet (within ``tol``): where their carriers meet, on both."""
+    ca, cb = a.carrier(), b.carrier()
+    if isinstance(ca, RoundCarrier) and isinstance(cb, StraightCarrier):
+        a, b, ca, cb = b, a, cb, ca
     pts = []
-    if isinstance(a, (Line, Segment)) and isinstance(b, (Line, Segment)):
-        p, d = _straight(a)
-        q, e = _straight(b)
+    if isinstance(ca, StraightCarrier) and isinstance(cb, StraightCarrier):
+        p, d = ca
+        q, e = cb
         cross = d[0] * e[1] - d[1] * e[0]
         if abs(cross) > 1e-14 * np.linalg.norm(d) * np.linalg.norm(e):
             s = ((q - p)[0] * e[1] - (q - p)[1] * e[0]) / cross
             pts.append(p + s * d)
         else:  # parallel: ends of one lying on the other
             for el in (a, b):
-                if isinstance(el, Segment):
-                    pts += [el.p0, el.p1]
-    elif isinstance(a, (Line, Segment)):
-        p, d = _straight(a)
-        c, r = np.array(b.center, float), b.radius
+                pts += [end for end, _, _ in el.end_frames()]
+    elif isinstance(ca, StraightCarrier):
+        p, d = ca
+        c, r = cb
         u = d / np.linalg.norm(d)
         s0 = (c - p) @ u
         foot = p + s0 * u
@@ -67,8 +55,8 @@ def _meet(a, b, tol):
             half = math.sqrt(max(r * r - h * h, 0.0))
             pts += [foot - half * u, foot + half * u]
     else:
-        c1, r1 = np.array(a.center, float), a.radius
-        c2, r2 = np.array(b.center, float), b.radius
+        c1, r1 = ca
+        c2, r2 = cb
         dvec = c2 - c1
         dist = np.linalg.norm(dvec)
         if dist > 0 and abs(r1 - r2) - tol <= dist <= r1 + r2 + tol:
@@ -115,26 +103,9 @@ def junction_arrays(elements, placed, scale):
     return start, (np.vstack(pts) if pts else np.zeros((0, 2)))
 
 
-def _end_frames(e):
-    """For each end of a segment or arc: (point, unit direction into the piece, inward unit normal)."""
-    if isinstance(e, Segment):
-        p0, p1 = np.array(e.p0, float), np.array(e.p1, float)
-        d = (p1 - p0) / np.linalg.norm(p1 - p0)
-        n_in = np.array(e.params()[2:4])
-        return [(p0, d, n_in), (p1, -d, n_in)]
-    out = []
-    for ang, sgn in ((e.theta0, 1.0), (e.theta1, -1.0)):
-        radial = np.array([math.cos(ang), math.sin(ang)])
-        pt = np.array(e.center, float) + e.radius * radial
-        out.append((pt, sgn * np.array([-radial[1], radial[0]]), e.sigma * radial))
-    return out
-
-
 def _frame_at(f, pt, tol):
     """``(direction into f, inward normal)`` if ``pt`` is an end of segment/arc ``f``, else None."""
-    if not isinstance(f, (Segment, Arc)):
-        return None
-    for q, d, n in _end_frames(f):
+    for q, d, n in f.end_frames():
         if np.linalg.norm(q - pt) <= tol:
             return d, n
     return None
@@ -153,9 +124,7 @@ def end_factors(elements, placed, scale):
     tol = _ON_TOL * max(scale, 1e-300)
     out = np.zeros((len(elements), 2))
     for i, e in enumerate(elements):
-        if not isinstance(e, (Segment, Arc)):
-            continue
-        for k, (pt, d_e, n_e) in enumerate(_end_frames(e)):
+        for k, (pt, d_e, n_e) in enumerate(e.end_frames()):
             convex = None
             for f in others:
                 if f == e or len(_on(f, pt[None], tol)) == 0:

@@ -61,13 +61,14 @@ def reaching_copies(elements, lattice):
 
 def _reaches(e, A, B, o1, o2):
     """Whether the copy of ``e`` shifted by ``o1 a1 + o2 a2`` comes within ``REACH_MARGIN`` of cell 0."""
-    from ..elements import Segment
+    from ..elements import StraightCarrier
 
     h = 0.5 + REACH_MARGIN
     shift = A @ np.array([o1, o2], float)
-    if isinstance(e, Segment):  # clip the segment to the inflated cell in lattice coordinates
-        p = B @ (np.array(e.p0) + shift)
-        d = B @ (np.array(e.p1) + shift) - p
+    if isinstance(e.carrier(), StraightCarrier):  # a segment: clip it to the inflated cell in lattice coordinates
+        (p0, _, _), (p1, _, _) = e.end_frames()
+        p = B @ (p0 + shift)
+        d = B @ (p1 + shift) - p
         lo, hi = 0.0, 1.0
         for k in range(2):
             if d[k] == 0.0:
@@ -80,8 +81,8 @@ def _reaches(e, A, B, o1, o2):
         return lo <= hi
     # circles and arcs: the curve passes through the cell iff the cell's nearest point lies
     # within r of the centre and its farthest vertex beyond r
-    c = np.array(e.center) + shift
-    r = e.radius
+    c, r = e.carrier()
+    c = c + shift
     verts = np.array([[-h, -h], [h, -h], [h, h], [-h, h]]) @ A.T
     far = float(np.hypot(*(verts - c).T).max())
     inside = bool(np.all(np.abs(B @ c) <= h))
@@ -175,7 +176,7 @@ def element_cells(element, points, lattice):
     offsets = np.stack([k1.ravel(), k2.ravel()], axis=-1)
     cand = first[:, None, :] + offsets[None, :, :]            # (N, K, 2)
     rel = p[:, None, :] - cand.astype(float) @ A.T
-    dist = element.distance(rel) if element.finite else np.abs(element.side_distance(rel))
+    dist = element.distance(rel)
     return cand[np.arange(len(p)), np.argmin(dist, axis=1)]
 
 

@@ -15,7 +15,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core import layout, variant
-from ..elements import Arc, Circle, Line, Segment
 from .junctions import end_factors, junction_arrays
 from .lattice import disks_apart, lattice_matrix, reaching_copies
 from .memo import per_scene
@@ -199,9 +198,8 @@ def _element_arrays(elements, placed, scale):
     for i, e in enumerate(elements):
         row = e.params()
         params[i, : len(row)] = row
-        if isinstance(e, Segment):  # its own end point, for distances far along it
-            for col, value in e.exact_params().items():
-                params[i, col] = value
+        for col, value in e.exact_params().items():  # a segment's own end point, for distances far along it
+            params[i, col] = value
     params[:, layout.END_START:layout.END_END + 1] = end_factors(elements, placed, scale)
     params[:, layout.LONG_WALL] = long_walls(elements)
     return kinds, params
@@ -214,12 +212,8 @@ def long_walls(elements):
     distance cancels; the event loop checks those hits exactly, and a table
     without one runs a loop compiled without the check.
     """
-    features = [e.length() if isinstance(e, Segment) else e.radius
-                for e in elements if isinstance(e, (Segment, Circle, Arc))]
-    smallest = min(features, default=math.inf)
-    return [1.0 if isinstance(e, Line) or (isinstance(e, Segment)
-                                           and e.length() > layout.LONG_WALL_RATIO * smallest) else 0.0
-            for e in elements]
+    smallest = min((e.feature_scale() for e in elements), default=math.inf)
+    return [1.0 if e.long_wall(smallest) else 0.0 for e in elements]
 
 
 def _disk_lattice(scene):
@@ -234,8 +228,8 @@ def _disk_lattice(scene):
     """
     if scene.lattice is None or scene.force != (0.0, 0.0) or scene.top is not None or scene.magnetic != 0.0:
         return False  # a bounded lattice runs the general loop, which knows the top
-    if not all(isinstance(e, Circle) and e.side == "outside" for e in scene.elements):
+    if not all(e.disk() is not None for e in scene.elements):
         return False
     A, _ = lattice_matrix(scene.lattice)
     size = max(scene.scale, float(np.abs(A).sum(axis=1).max()))
-    return disks_apart([(e.center, e.radius) for e in scene.elements], scene.lattice, DISK_GAP * size)
+    return disks_apart([e.disk() for e in scene.elements], scene.lattice, DISK_GAP * size)

@@ -62,7 +62,6 @@ import numpy as np
 from .._engine.lattice import cell_of, cell_origin, element_cells
 from .._metadata import annotate
 from .._validate import count, positive
-from ..elements import Arc, Circle, Segment
 from ..ensemble import simulate_many
 from ..initial import rng_from
 from ..scenes import Scene
@@ -117,7 +116,7 @@ def _finite_elements(scene, elements):
     for i in idx:
         if not 0 <= i < len(scene.elements):
             raise ValueError(f"elements: no element {i} in a scene of {len(scene.elements)}")
-        if not isinstance(scene.elements[i], (Segment, Circle, Arc)):
+        if not scene.elements[i].bounded:
             raise ValueError(f"elements: element {i} is an infinite line, which has no arclength to sample; "
                              "choose the finite elements (segments, circles, arcs)")
     return idx

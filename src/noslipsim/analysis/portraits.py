@@ -53,7 +53,6 @@ import xarray as xr
 
 from .._metadata import annotate
 from .._validate import positive
-from ..elements import Arc, Circle, Line, Segment
 from ..scenes import Scene
 
 __all__ = [
@@ -69,15 +68,6 @@ UNIT_TOL = 1e-9
 
 
 # ----------------------------------------------------------------------------- the boundary layout
-def _orientation(e):
-    """+1 if the element's own ``s`` increases along ``t = J n_out``, else -1."""
-    if isinstance(e, Line):
-        return 1.0
-    if isinstance(e, Segment):
-        return 1.0 if e.side == "left" else -1.0
-    return -e.sigma  # circles, arcs: s is counter-clockwise; t is clockwise on a scatterer (sigma = +1)
-
-
 def _layout(scene, elements):
     """Chosen element indices, their offsets along the boundary, lengths and orientations."""
     n_el = len(scene.elements)
@@ -102,7 +92,7 @@ def _layout(scene, elements):
         lengths.append(L)
     lengths = np.array(lengths)
     offsets = np.concatenate([[0.0], np.cumsum(lengths)[:-1]])
-    orient = np.array([_orientation(scene.elements[k]) for k in chosen])
+    orient = np.array([scene.elements[k].orientation() for k in chosen])
     return np.array(chosen), offsets, lengths, orient
 
 
@@ -127,19 +117,6 @@ def _check_portrait(portrait, needs):
                          "(simulate_many(..., record='portrait') or experiments.phase_portrait)")
 
 
-def _local_s(e, s):
-    """The element's own ``s`` brought into ``[0, L]``.
-
-    An arc hit within the extent tolerance before ``theta0`` comes back from the
-    kernel as nearly ``2 pi r`` (its angle wraps); it belongs at 0.
-    """
-    if isinstance(e, Arc):
-        s = np.where(s > 0.5 * (e.length() + TWO_PI * e.radius), s - TWO_PI * e.radius, s)
-    if isinstance(e, Circle):
-        return np.mod(s, TWO_PI * e.radius)
-    return np.clip(s, 0.0, e.length())
-
-
 def _s_boundary(portrait, scene, elements):
     chosen, offsets, lengths, orient = _layout(scene, elements)
     el = np.asarray(portrait["element"].values, dtype=float)
@@ -153,7 +130,7 @@ def _s_boundary(portrait, scene, elements):
     sign = np.full(el.shape, np.nan)
     for k, o, sg in zip(chosen, offsets, orient):
         on = el == k
-        out[on] = o + _local_s(scene.elements[k], s[on])
+        out[on] = o + scene.elements[k].local_s(s[on])
         sign[on] = sg
     attrs = {"boundary_elements": chosen.tolist(), "element_offsets": offsets.tolist(),
              "element_lengths": lengths.tolist(), "element_orientation": orient.tolist(),
@@ -345,17 +322,7 @@ def _locate(scene, s_boundary, elements):
     n_out = np.empty((len(s), 2))
     for i, k in enumerate(chosen):
         on = idx == i
-        e = scene.elements[k]
-        if isinstance(e, Segment):
-            x0, y0, nx, ny, ux, uy, _ = e.params()  # start, inward normal, unit direction, length
-            point[on] = np.array([x0, y0]) + local[on, None] * np.array([ux, uy])
-            n_out[on] = (-nx, -ny)
-        else:
-            start = 0.0 if isinstance(e, Circle) else e.theta0
-            ang = start + local[on] / e.radius
-            radial = np.c_[np.cos(ang), np.sin(ang)]
-            point[on] = np.array(e.center) + e.radius * radial
-            n_out[on] = -e.sigma * radial
+        point[on], n_out[on] = scene.elements[k].at_arclength(local[on])
     t = np.c_[-n_out[:, 1], n_out[:, 0]]
     return chosen[idx], point, n_out, orient[idx][:, None] * t
 

@@ -72,8 +72,7 @@ def boundary_frames(scene: Scene, element, s):
     sigma : (N,)
         ``ds/dl``, +1 or -1.
     """
-    table = kernel_table(scene)
-    kinds, params = table.kinds, table.params
+    kernel_table(scene)  # s is the compiled engine's coordinate: refuse a scene it does not pack
     e = np.asarray(element, dtype=np.int64)
     s = np.asarray(s, dtype=float)
     N = len(e)
@@ -82,33 +81,11 @@ def boundary_frames(scene: Scene, element, s):
     turn = np.empty(N)
     sigma = np.empty(N)
     # one pass per element (a table has few): each piece's formula on its own collisions only
-    for k in np.flatnonzero(np.bincount(e, minlength=len(kinds))):
+    for k in np.flatnonzero(np.bincount(e, minlength=len(scene.elements))):
         idx = np.flatnonzero(e == k)
         if len(idx) == N:  # one element only: plain slices, no gather or scatter
             idx = slice(None)
-        kind, p = kinds[k], params[k]
-        sk = s[idx]
-        if kind == layout.LINE or kind == layout.SEGMENT:
-            # n_out = -n_in, t = J n_out; s runs from the piece's point along t (line) or p0 -> p1 (segment)
-            tx, ty = p[3], -p[2]
-            ux, uy = (p[4], p[5]) if kind == layout.SEGMENT else (tx, ty)
-            point[idx, 0] = p[0] + sk * ux
-            point[idx, 1] = p[1] + sk * uy
-            n[idx, 0] = -p[2]
-            n[idx, 1] = -p[3]
-            turn[idx] = 0.0
-            sigma[idx] = ux * tx + uy * ty
-        else:
-            # point c + r e(theta), n_out = -sigma_c e, t = -sigma_c e_theta, s = r (theta - theta0)
-            r, sig = p[2], p[3]
-            theta = (p[4] if kind == layout.ARC else 0.0) + sk / r
-            cos, sin = np.cos(theta), np.sin(theta)
-            point[idx, 0] = p[0] + r * cos
-            point[idx, 1] = p[1] + r * sin
-            n[idx, 0] = -sig * cos
-            n[idx, 1] = -sig * sin
-            turn[idx] = -sig / r
-            sigma[idx] = -sig
+        point[idx], n[idx], turn[idx], sigma[idx] = scene.elements[k].frame_at(s[idx])
     t = np.empty_like(n)
     t[:, 0] = -n[:, 1]
     t[:, 1] = n[:, 0]
@@ -122,10 +99,7 @@ def boundary_length(scene: Scene, element):
 
 def wrap_difference(scene: Scene, element, ds):
     """``ds`` reduced to ``(-L/2, L/2]`` on a full circle of circumference ``L`` (other kinds unchanged)."""
-    if scene.elements[int(element)].kind != layout.CIRCLE:
-        return ds
-    L = boundary_length(scene, element)
-    return ds - L * np.round(ds / L)
+    return scene.elements[int(element)].wrap_arclength(ds)
 
 
 # ----------------------------------------------------------------------------- runs

@@ -27,7 +27,6 @@ from matplotlib.patches import Circle as CirclePatch
 from matplotlib.patches import FancyArrowPatch
 from matplotlib.path import Path
 
-from ..elements import Arc, Circle, Line, Segment
 from .style import law_color
 from .table import scene_of
 
@@ -143,27 +142,6 @@ def _flight_points(n, share=0.5):
     return x, y, n["vx"] + ax * tau, n["vy"] + ay * tau, n["spin"]
 
 
-def _wall_distance(element, x, y):
-    """Distance from ``(x, y)`` to one element (a line, a segment, a circle or an arc)."""
-    if isinstance(element, Line):
-        return abs((x - element.point[0]) * element.normal[0] + (y - element.point[1]) * element.normal[1])
-    if isinstance(element, Segment):
-        (x0, y0), (x1, y1) = element.p0, element.p1
-        dx, dy = x1 - x0, y1 - y0
-        f = min(max(((x - x0) * dx + (y - y0) * dy) / (dx * dx + dy * dy), 0.0), 1.0)
-        return math.hypot(x - x0 - f * dx, y - y0 - f * dy)
-    cx, cy = element.center
-    r = math.hypot(x - cx, y - cy)
-    if isinstance(element, Circle):
-        return abs(r - element.radius)
-    if isinstance(element, Arc):
-        if (math.atan2(y - cy, x - cx) - element.theta0) % (2 * math.pi) <= element.theta1 - element.theta0:
-            return abs(r - element.radius)
-        return min(math.hypot(x - cx - element.radius * math.cos(a), y - cy - element.radius * math.sin(a))
-                   for a in (element.theta0, element.theta1))
-    raise TypeError(f"scene: no distance to an element of type {type(element).__name__}")  # pragma: no cover
-
-
 def _spin_spots(n, scene, spin_every, radius):
     """``(x, y, spin, speed)`` of the spin markers: one per ``spin_every``-th flight where one fits.
 
@@ -182,7 +160,7 @@ def _spin_spots(n, scene, spin_every, radius):
             continue                                   # a flight repeated (a periodic orbit): marked once
         for x, y, vx, vy, w in spots:
             px, py = float(x[k]), float(y[k])
-            if any(_wall_distance(e, px, py) < SPIN_CLEARANCE * radius for e in walls):
+            if any(e.distance(np.array([px, py])) < SPIN_CLEARANCE * radius for e in walls):
                 continue
             if any(math.hypot(px - qx, py - qy) < SPIN_GAP * radius for qx, qy, _, _ in placed):
                 continue

@@ -20,7 +20,7 @@ from matplotlib.patches import Circle as CirclePatch
 from matplotlib.patches import Polygon
 
 from .._engine.lattice import lattice_matrix
-from ..elements import Arc, Circle, Line, Segment
+from ..outline import Disc, Wall
 from ..scenes import Scene
 from .style import SCATTERER_COLOR, SHADE_COLOR, WALL_COLOR
 
@@ -85,7 +85,7 @@ def auto_window(scene):
     ValueError
         For a scene with infinite lines or a lattice (no natural window).
     """
-    if scene.lattice is not None or any(isinstance(e, Line) for e in scene.elements):
+    if scene.lattice is not None or not all(e.bounded for e in scene.elements):
         raise ValueError("window: a scene with infinite lines or a lattice needs an explicit window "
                          "(x0, x1, y0, y1)")
     boxes = np.array([e.bbox() for e in scene.elements])
@@ -128,12 +128,8 @@ def view_window(scene, points=None, *, cells=1, margin=0.1):
                 corners.append(A @ np.array([n1 - 0.5, n2 - 0.5]))
     else:
         for e in scene.elements:
-            if isinstance(e, Line):
-                corners.append(np.asarray(e.point, float))
-            else:
-                x0, y0, x1, y1 = _tight_box(e)
-                corners += [np.array([x0, y0]), np.array([x1, y1])]
-        if all(isinstance(e, Line) for e in scene.elements):
+            corners += e.view_points()
+        if not any(e.bounded for e in scene.elements):
             c = np.mean(corners, axis=0)
             corners += [c - scene.scale, c + scene.scale] if scene.scale > 0 else [c - 1.0, c + 1.0]
     pts = np.array(corners, float).reshape(-1, 2)
@@ -145,18 +141,6 @@ def view_window(scene, points=None, *, cells=1, margin=0.1):
     x1, y1 = pts.max(axis=0)
     pad = margin * max(x1 - x0, y1 - y0, 1e-9 * max(abs(x0), abs(y0), 1.0))
     return float(x0 - pad), float(x1 + pad), float(y0 - pad), float(y1 + pad)
-
-
-def _tight_box(e):
-    """The bounding box of an element; an arc's is its ends and the axis points it passes through."""
-    if not isinstance(e, Arc):
-        return e.bbox()
-    span = (e.theta1 - e.theta0) % (2 * math.pi) or 2 * math.pi
-    angles = [e.theta0, e.theta0 + span] + [k * math.pi / 2 for k in range(8)
-                                             if 0.0 <= (k * math.pi / 2 - e.theta0) % (2 * math.pi) <= span]
-    xs = [e.center[0] + e.radius * math.cos(a) for a in angles]
-    ys = [e.center[1] + e.radius * math.sin(a) for a in angles]
-    return min(xs), min(ys), max(xs), max(ys)
 
 
 def _clip_half_plane(box, point, normal):
@@ -220,7 +204,12 @@ def _clip_to_walls(seg, lines, own):
 
 def _wall_chords(scene, box, copies):
     """For every infinite line among ``copies``: its shade polygon and its visible boundary chord (or None)."""
-    lines = [((e.point[0] + dx, e.point[1] + dy), e.normal) for e, dx, dy in copies if isinstance(e, Line)]
+    lines = []
+    for e, dx, dy in copies:
+        plane = e.half_plane()
+        if plane is not None:
+            (px, py), n = plane
+            lines.append(((px + dx, py + dy), n))
     out = []
     for k, (p, n) in enumerate(lines):
         seg = _clip_line(box, p, (-n[1], n[0]))
@@ -296,23 +285,13 @@ def draw_table(ax, scene, window=None, *, wall_color=WALL_COLOR, scatterer_color
             shades.append(Polygon(shade, closed=True))
         if seg is not None:
             walls.append(seg)
-    for e, dx, dy in copies:
-        if isinstance(e, Line):
-            continue
-        if isinstance(e, Segment):
-            walls.append([(e.p0[0] + dx, e.p0[1] + dy), (e.p1[0] + dx, e.p1[1] + dy)])
-        elif isinstance(e, Circle):
-            c = (e.center[0] + dx, e.center[1] + dy)
-            if e.side == "outside":
-                discs.append(CirclePatch(c, e.radius))
-            else:
-                curves.append(CirclePatch(c, e.radius, fill=False))
-        elif isinstance(e, Arc):
-            c = (e.center[0] + dx, e.center[1] + dy)
-            curves.append(ArcPatch(c, 2 * e.radius, 2 * e.radius, theta1=math.degrees(e.theta0),
-                                   theta2=math.degrees(e.theta1)))
-        else:  # pragma: no cover - every element kind is handled above
-            raise TypeError(f"scene: cannot draw element of type {type(e).__name__}")
+    for part in (part for e, dx, dy in copies for part in e.outline(dx, dy)):
+        if isinstance(part, Wall):
+            walls.append(part.points)
+        elif isinstance(part, Disc):
+            discs.append(CirclePatch(part.center, part.radius))
+        else:
+            curves.append(_curve_patch(part))
     if shades:
         ax.add_collection(PatchCollection(shades, facecolor=SHADE_COLOR, edgecolor="none", zorder=zorder))
     if discs:
@@ -328,6 +307,14 @@ def draw_table(ax, scene, window=None, *, wall_color=WALL_COLOR, scatterer_color
     ax.set_ylim(y0, y1)
     ax.set_aspect("equal")
     return box
+
+
+def _curve_patch(curve):
+    """The matplotlib patch of an unfilled :class:`noslipsim.outline.Curve`: a full circle or an arc of one."""
+    if curve.theta1 is None:
+        return CirclePatch(curve.center, curve.radius, fill=False)
+    return ArcPatch(curve.center, 2 * curve.radius, 2 * curve.radius, theta1=math.degrees(curve.theta0),
+                    theta2=math.degrees(curve.theta1))
 
 
 #: Points per full turn when a circle or an arc is given as a polyline (:func:`table_shapes`).
@@ -360,17 +347,11 @@ def table_shapes(scene, window):
             shades.append(([q[0] for q in shade], [q[1] for q in shade]))
         if seg is not None:
             walls.append(([seg[0][0], seg[1][0]], [seg[0][1], seg[1][1]]))
-    for e, dx, dy in copies:
-        if isinstance(e, Line):
-            continue
-        if isinstance(e, Segment):
-            walls.append(([e.p0[0] + dx, e.p1[0] + dx], [e.p0[1] + dy, e.p1[1] + dy]))
-        elif isinstance(e, Circle) and e.side == "outside":
-            discs.append((e.center[0] + dx, e.center[1] + dy, e.radius))
+    for part in (part for e, dx, dy in copies for part in e.outline(dx, dy)):
+        if isinstance(part, Wall):
+            walls.append(([p[0] for p in part.points], [p[1] for p in part.points]))
+        elif isinstance(part, Disc):
+            discs.append((*part.center, part.radius))
         else:  # a container circle or an arc
-            t0 = 0.0 if isinstance(e, Circle) else e.theta0
-            span = 2 * math.pi if isinstance(e, Circle) else (e.theta1 - e.theta0) % (2 * math.pi) or 2 * math.pi
-            a = t0 + np.linspace(0.0, span, max(8, int(CURVE_POINTS * span / (2 * math.pi))))
-            walls.append(((e.center[0] + dx + e.radius * np.cos(a)).tolist(),
-                          (e.center[1] + dy + e.radius * np.sin(a)).tolist()))
+            walls.append(part.polyline(CURVE_POINTS))
     return {"walls": walls, "discs": discs, "shades": shades}
