@@ -3,7 +3,8 @@
 For each kind: the crossing polynomial along a flight (positive on the table
 side), the signed distance, the extent test (ends inclusive within a
 tolerance), the projection onto the element with the outward unit normal, and
-the arclength coordinate.  Adding an element kind touches only this module.
+the arclength coordinate.  Adding an element kind touches this module and the event code that
+branches on the kind (docs/extending.md, "An element kind", lists every file).
 
 Frame convention (docs/conventions.md, "The collision frame"): ``n`` is the *outward* unit normal (out of
 the table, into the wall) and the tangent is ``t = J n = (-n_y, n_x)``.
