@@ -36,30 +36,45 @@ def speed_bound(F):
     return math.hypot(F[2], F[3])
 
 
+@jit(inline="always")
+def window(F, lo):
+    """The state where a window opens at ``lo`` (the path from there is the same circle, re-based)."""
+    if lo == 0.0:
+        return F
+    x, y, vx, vy = advance(F[0], F[1], F[2], F[3], F[4], lo)
+    return x, y, vx, vy, F[4]
+
+
 @jit
-def element_exit(kind, p, F, sx, sy, deflate, lo, hi, extent_tol):
+def element_exit(kind, p, G, sx, sy, deflate, lo, hi, extent_tol):
     """The exit root in ``(lo, hi]`` through the element copy shifted by ``(sx, sy)``, within its extent, or inf.
 
-    Solved from the state at ``lo`` (``deflate`` only with ``lo = 0``): the next exit after ``lo``,
-    as a closed path meets an element at one root per period.
+    ``G`` is the state at ``lo`` (:func:`window`; ``deflate`` only with ``lo = 0``): the next exit after
+    ``lo``, as a closed path meets an element at one root per period.  Copies the path cannot reach
+    before ``hi`` (their distance over the speed) and exits after ``hi`` are dropped before the
+    exit's time and point are formed: the cell search passes the earliest hit so far as ``hi``.
     """
-    x, y, vx, vy, W = F
-    if lo > 0.0:
-        x, y, vx, vy = advance(x, y, vx, vy, W, lo)
+    x, y, vx, vy, W = G
     x -= sx
     y -= sy
+    if not deflate and hi < INF:  # |q(t) - q(lo)| <= c (t - lo): no hit before the distance is flown
+        if kind == LINE or kind == SEGMENT:
+            gap = (x - p[0]) * p[2] + (y - p[1]) * p[3]
+        else:
+            gap = p[3] * (math.hypot(x - p[0], y - p[1]) - p[2])
+        if gap > math.hypot(vx, vy) * (hi - lo) * (1.0 + 1e-9) + extent_tol:
+            return INF
     if kind == LINE or kind == SEGMENT:  # layout normals point into the table; magnetic's out of it
         t = _line_element_exit(x, y, vx, vy, W, p[0], p[1], -p[2], -p[3], deflate)
     else:
         t = circle_exit(x, y, vx, vy, W, p[0], p[1], p[2], p[3], deflate)
-    if t == INF:
+    if t == INF or lo + t > hi:
         return INF
     if kind == SEGMENT or kind == ARC:
         hx, hy = advance(x, y, vx, vy, W, t)[:2]
         if extent_position(kind, p, hx, hy, extent_tol) < 0:
             return INF
-    t += lo
-    return t if t <= hi else INF
+    return lo + t
 
 
 @jit(inline="always")

@@ -1,6 +1,6 @@
 """The event search of a closed-form flight, written once: the earliest hit in a cell, the cell walk, a long wall.
 
-A *flight* is a module that answers six questions about the path from one
+A *flight* is a module that answers seven questions about the path from one
 collision to the next, each a small kernel taking the flight's state ``F``
 (a tuple the module builds; it is never inspected here):
 
@@ -8,9 +8,12 @@ collision to the next, each a small kernel taking the flight's state ``F``
 ``start(F)``                                        ``(x, y)`` at ``t = 0``
 ``state_at(F, t)``                                  ``(x, y, vx, vy)`` at time ``t``
 ``speed_bound(F)``                                  a bound on the speed over the flight (the reach filter)
-``element_exit(kind, p, F, sx, sy, deflate,         the first exit root in ``(lo, hi]`` through the element
-lo, hi, extent_tol)``                               copy shifted by ``(sx, sy)``, within its extent; ``inf``
-                                                    for none, a negative time when the search gave up
+``window(F, lo)``                                   the flight as ``element_exit`` takes it for a window
+                                                    opening at ``lo`` (formed once per cell)
+``element_exit(kind, p, G, sx, sy, deflate,         the first exit root in ``(lo, hi]`` through the element
+lo, hi, extent_tol)``                               copy shifted by ``(sx, sy)``, within its extent, of the
+                                                    flight ``G = window(F, lo)``; ``inf`` for none, a negative
+                                                    time when the search gave up
 ``face_exit(F, f0, nx, ny, t_in)``                  the first time ``>= t_in`` at which ``f0 + n . (q(t) - q(0))``
                                                     (positive inside) leaves; ``t_in`` when on or past it and
                                                     moving out
@@ -61,6 +64,7 @@ def event_search(flight, compile=jit):
     start = flight.start
     state_at = flight.state_at
     speed_bound = flight.speed_bound
+    window = flight.window
     element_exit = flight.element_exit
     face_exit = flight.face_exit
     line_exit = flight.line_exit
@@ -75,6 +79,8 @@ def event_search(flight, compile=jit):
             xi, yi = state_at(F, t_in)[:2]
             reach = speed_bound(F) * (hi - t_in) * (1.0 + 1e-9) + extent_tol
         x0, y0 = start(F)
+        G0 = window(F, 0.0)
+        G = window(F, t_in)  # the flight where the window opens: once per cell, not per copy
         best_t = hi
         best_e = -1
         best_o1 = 0
@@ -85,19 +91,19 @@ def event_search(flight, compile=jit):
             o2 = copies[k, 2] + d2
             sx, sy = copy_shift(A, o1, o2, shifted)
             if e == cur_e and o1 == cur_o1 and o2 == cur_o2:
-                t = element_exit(kinds[e], params[e], F, sx, sy, True, 0.0, best_t, extent_tol)
+                t = element_exit(kinds[e], params[e], G0, sx, sy, True, 0.0, best_t, extent_tol)
             else:
                 if bounded:
                     ex0, ey0, ex1, ey1 = element_box(kinds[e], params[e])
                     if (ex0 + sx > xi + reach or ex1 + sx < xi - reach
                             or ey0 + sy > yi + reach or ey1 + sy < yi - reach):
                         continue
-                t = element_exit(kinds[e], params[e], F, sx, sy, False, t_in, best_t, extent_tol)
+                t = element_exit(kinds[e], params[e], G, sx, sy, False, t_in, best_t, extent_tol)
                 if (0.0 <= t <= best_t and t < INF and (kinds[e] == SEGMENT or kinds[e] == ARC)
                         and (params[e, END_START] < 1.0 or params[e, END_END] < 1.0)
                         and starts_at_open_end(kinds[e], params[e], x0 - sx, y0 - sy, extent_tol)):
                     # the root t = 0 at an open end is exact: no collision (events.hit_in_cell)
-                    t = element_exit(kinds[e], params[e], F, sx, sy, True, 0.0, best_t, extent_tol)
+                    t = element_exit(kinds[e], params[e], G0, sx, sy, True, 0.0, best_t, extent_tol)
             if t < 0.0:  # a search gave up: the earliest hit is unknown
                 return GAVE_UP, SEARCH_FAILED, 0, 0
             if t < best_t or (best_e < 0 and t == best_t and t < INF):

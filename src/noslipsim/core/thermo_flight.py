@@ -33,6 +33,12 @@ def speed_bound(F):
 
 
 @jit(inline="always")
+def window(F, lo):
+    """The path itself: its exits are solved from the collision over ``(lo, hi]``."""
+    return F
+
+
+@jit(inline="always")
 def element_exit(kind, p, F, sx, sy, deflate, lo, hi, extent_tol):
     """:func:`thermo_events.element_hit` (``GAVE_UP`` when a circle search ran out of steps)."""
     return element_hit(kind, p, F[0], sx, sy, deflate, lo, hi, extent_tol, F[1])
