@@ -153,6 +153,24 @@ def test_orbit_path_in_a_magnetic_field_follows_the_cyclotron_arcs():
     assert (scene.depth(np.c_[x, y]) > -1e-9).all()
 
 
+def test_flight_states_fly_the_nodes_scene_and_hand_built_nodes_their_force():
+    from invariants import cyclotron_miss
+
+    nodes = {"t": np.array([0.0, 1.0]), "x": np.array([0.2, 0.4]), "y": np.array([0.3, 0.1]),
+             "vx": np.array([0.6, -0.8]), "vy": np.array([0.8, 0.6]), "spin": np.array([0.0, 0.1])}
+    times = np.linspace(0.0, 2.0, 9)
+    field = {**nodes, "scene": tables.rectangle(1.0, 1.0).replace(magnetic=1.5)}  # no "force" key needed
+    st = plot.flight_states(field, times)
+    assert cyclotron_miss(field, times, st["x"], st["y"], 1.5) < 1e-12 and not plot.straight_flights(field)
+    np.testing.assert_allclose(np.hypot(st["vx"], st["vy"]), 1.0, rtol=1e-14)  # a field does no work
+    fall = {**nodes, "force": (0.0, -2.0)}
+    st = plot.flight_states(fall, times)
+    k = (times >= 1.0).astype(int)
+    tau = times - nodes["t"][k]
+    np.testing.assert_array_equal(st["y"], nodes["y"][k] + nodes["vy"][k] * tau - tau ** 2)
+    assert plot.straight_flights({**nodes, "force": (0.0, 0.0)}) and not plot.straight_flights(fall)
+
+
 def test_straight_flights_use_two_points():
     orbit = ns.simulate(tables.rectangle(2.0, 1.0), (0.5, 0.5), (1.0, 0.3), max_collisions=5)
     x, _ = plot.orbit_path(orbit)

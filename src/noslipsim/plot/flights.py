@@ -26,8 +26,9 @@ __all__ = ["collision_frames", "flight_samples", "flight_states", "fly", "straig
 def straight_flights(nodes):
     """True if every flight of ``nodes`` is a straight line (no force, no field): its two ends draw it."""
     scene = nodes.get("scene")
-    field = 0.0 if scene is None else scene.magnetic
-    return tuple(nodes["force"]) == (0.0, 0.0) and field == 0.0
+    if scene is None:  # nodes built by hand: free fall under their force
+        return tuple(nodes["force"]) == (0.0, 0.0)
+    return scene.force == (0.0, 0.0) and scene.magnetic == 0.0
 
 
 def fly(nodes, x, y, vx, vy, tau):
