@@ -548,3 +548,18 @@ def log_floor(scene, ds):
         return 0.0
     big = max(float(np.abs(ds.x.values).max()), float(np.abs(ds.y.values).max()))
     return 2.0 * np.finfo(float).eps * big / scene.scale
+
+
+def cyclotron_miss(nodes, times, x, y, W):
+    """Largest distance of the points ``(x, y)`` at ``times`` from the cyclotron circle of their flight.
+
+    The flight from node ``k`` (``t, x, y, vx, vy``) in a field ``W`` runs on the circle of radius
+    ``|v_k| / |W|`` about ``q_k + J v_k / W``, ``J(a, b) = (-b, a)`` (docs/scenes.md); a point drawn on
+    the chord or a parabola instead misses it.  A point at a collision time belongs to the flight it ends
+    or begins: both circles pass through it, so the later one is taken.
+    """
+    t0 = np.asarray(nodes["t"], dtype=float)
+    k = np.searchsorted(t0, np.asarray(times, dtype=float), side="right") - 1
+    qx, qy, vx, vy = (np.asarray(nodes[c], dtype=float)[k] for c in ("x", "y", "vx", "vy"))
+    cx, cy = qx - vy / W, qy + vx / W
+    return float(np.max(np.abs(np.hypot(np.asarray(x) - cx, np.asarray(y) - cy) - np.hypot(vx, vy) / abs(W))))

@@ -10,12 +10,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from invariants import cyclotron_miss
 
 import noslipsim as ns
 from noslipsim import animation, tables
 from noslipsim.plot import collision_frames, flight_states, orbit_nodes, orbit_path, view_window
 
 PEG = tables.galton_board(spacing=2.0, radius=0.5, gravity=1.0)
+ROOT = Path(__file__).resolve().parents[1]
+#: A Sinai box in a field W = 1 (examples/magnetic_sinai.yaml): every flight a cyclotron arc of radius |v|.
+MAGNETIC = ns.Scene.from_yaml(str(ROOT / "examples" / "magnetic_sinai.yaml"))
 
 
 def _peg_scene():
@@ -47,6 +51,36 @@ def test_flight_states_at_collision_times_are_the_logged_states():
     np.testing.assert_array_equal(st["flight"], np.arange(1, 9))
     with pytest.raises(ValueError, match="times: must be >= the start time"):
         flight_states(orbit_nodes(orbit), [-1.0])
+
+
+def test_a_magnetic_animation_draws_the_particle_and_its_trail_on_each_cyclotron_arc(tmp_path):
+    """Frames between collisions lie on the circle of their flight (a chord or straight flight misses it)."""
+    W = MAGNETIC.magnetic
+    out = animation.animate(MAGNETIC, [((0.1, 0.1), (0.6, 0.8), 0.0)], tmp_path / "m.gif", max_collisions=6,
+                            duration=2.0, fps=10, dpi=40)
+    nodes = orbit_nodes(out["orbits"][0])
+    pos = out["positions"][0]
+    assert cyclotron_miss(nodes, out["orbit_times"][0], pos[:, 0], pos[:, 1], W) < 1e-9
+    # the trail: several samples per arc, all on the arc (its two ends alone would draw the chord)
+    t, x, y = animation._flight_samples(nodes, float(out["orbits"][0].t_final))
+    assert len(t) == animation.TRAIL_POINTS * len(nodes["t"])
+    assert cyclotron_miss(nodes, t, x, y, W) < 1e-9
+
+
+def test_a_thermostatted_animation_draws_the_scenes_exact_flight(tmp_path):
+    """The isokinetic flight is not the parabola of its force: the frames follow Scene.flight_states."""
+    scene = tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)], force=(0.0, -2.0)).replace(thermostat="isokinetic")
+    out = animation.animate(scene, [((0.1, 0.1), (0.6, 0.8), 0.0)], tmp_path / "t.gif", max_collisions=6,
+                            duration=2.0, fps=10, dpi=40)
+    nodes = orbit_nodes(out["orbits"][0])
+    t = out["orbit_times"][0]
+    k = np.searchsorted(nodes["t"], t, side="right") - 1
+    x, y, _, _ = scene.flight_states(nodes["x"][k], nodes["y"][k], nodes["vx"][k], nodes["vy"][k], t - nodes["t"][k])
+    np.testing.assert_allclose(out["positions"][0], np.c_[x, y], rtol=0, atol=1e-12)
+    # and it differs visibly from the free-fall parabola of the same force somewhere
+    tau = t - nodes["t"][k]
+    parabola_y = nodes["y"][k] + nodes["vy"][k] * tau - tau ** 2
+    assert np.max(np.abs(out["positions"][0][:, 1] - parabola_y)) > 1e-3
 
 
 def test_collision_frames_move_the_nearest_frame_onto_each_collision():

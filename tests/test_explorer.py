@@ -15,13 +15,16 @@ import pytest
 
 pytest.importorskip("panel", reason="the explorer needs the 'explore' extra (Panel, Bokeh)")
 
+from invariants import cyclotron_miss
+
 import noslipsim as ns
 from noslipsim import tables
 from noslipsim.analysis.log_portrait import log_portrait
-from noslipsim.explorer.session import FIRST_BUDGET, Explorer, Limits
+from noslipsim.explorer.session import FIRST_BUDGET, TRAIL_POINTS, Explorer, Limits
 
 ROOT = Path(__file__).resolve().parents[1]
 BOX = ns.Scene.from_yaml(str(ROOT / "examples" / "sinai_box.yaml"))
+MAGNETIC = ns.Scene.from_yaml(str(ROOT / "examples" / "magnetic_sinai.yaml"))  # the box in a field W = 1
 LEMON = tables.lemon(1.0, 1.0)  # specular: the Birkhoff portrait
 
 
@@ -163,6 +166,55 @@ def test_changing_the_law_recomputes_the_orbits_and_switches_the_portrait():
     np.testing.assert_array_equal(o2.nodes["x"][1:21], ref.x.values)
     ex.set_physics(force_strength=0.5)  # along gravity for a scene without force
     assert ex.scene.force == (0.0, -0.5)
+
+
+def test_a_magnetic_scene_is_drawn_on_its_cyclotron_arcs():
+    """The particle and every trail segment's ends lie on the circle of their flight (not on chords)."""
+    ex = Explorer(MAGNETIC)
+    o = ex.launch([0.1, 0.1], [0.6, 0.8])
+    ex.set_speed(2.0)
+    for _ in range(3):
+        frame = ex.advance(1.0)
+        nd, tau = o.nodes, ex.clock - o.born
+        p = frame["particles"]
+        assert cyclotron_miss(nd, [tau], p["x"], p["y"], MAGNETIC.magnetic) < 1e-9
+        tr = frame["trails"]
+        rows = len(tr["x0"]) // (TRAIL_POINTS - 1)  # one row of TRAIL_POINTS - 1 segments per flight drawn
+        assert rows * (TRAIL_POINTS - 1) == len(tr["x0"]) and rows >= 2
+        k = int(np.searchsorted(nd["t"], tau, side="right")) - 1
+        t_of = np.repeat(nd["t"][k - rows + 1:k + 1], TRAIL_POINTS - 1)  # selects each segment's flight
+        for x, y in ((tr["x0"], tr["y0"]), (tr["x1"], tr["y1"])):
+            assert cyclotron_miss(nd, t_of, x, y, MAGNETIC.magnetic) < 1e-9
+    ref = _log(MAGNETIC, o.start, 50)
+    np.testing.assert_array_equal(o.nodes["x"][1:51], ref.x.values)
+    assert ex.readout()["energy_error"] < 1e-13  # (|v|^2 + w^2)/2: a field does no work
+
+
+def test_a_field_keeps_through_law_changes_and_refuses_a_force_by_name():
+    ex = Explorer(MAGNETIC)
+    ex.launch([0.1, 0.1], [0.6, 0.8])
+    assert not ex.force_allowed and ex.scene.magnetic == 1.0
+    with pytest.raises(ValueError, match=r"^force: this table has a magnetic field \(magnetic = 1\), which takes "
+                                         r"no force; the force stays 0$"):
+        ex.set_physics(force_strength=0.5)
+    assert ex.scene == MAGNETIC and len(ex.orbits) == 1
+    ex.set_physics(law="no-slip", gamma=0.5, force_strength=0.0)
+    assert ex.scene.magnetic == 1.0 and ex.scene.law == "no-slip" and ex.scene.force == (0.0, 0.0)
+    ex.warm()  # the strengths a page could ask for with a field: 0 only, nothing refused raised
+    assert Explorer(BOX).force_allowed
+
+
+def test_the_page_of_a_magnetic_table_turns_the_force_control_off_and_shows_the_field():
+    from noslipsim.explorer.app import ExplorerApp
+
+    app = ExplorerApp(MAGNETIC)
+    assert app.force.disabled and "magnetic field" in app.force.name
+    assert "magnetic = 1" in app.readout.object and not app.arrow.visible
+    app.force.value = 0.5  # a value sent through the websocket all the same: said, and put back
+    assert app.force.value == 0.0 and app.model.scene == MAGNETIC
+    assert app.alert.visible and "which takes no force" in app.alert.object
+    plain = ExplorerApp(BOX)
+    assert not plain.force.disabled and "magnetic" not in plain.readout.object
 
 
 def test_a_periodic_scene_is_drawn_folded_into_cell_zero():

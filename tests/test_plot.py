@@ -126,6 +126,51 @@ def test_orbit_path_follows_the_exact_flights_and_stays_on_the_table():
     np.testing.assert_allclose(y[:9], 0.8 * tau - 0.5 * tau ** 2, atol=1e-12)
 
 
+def test_orbit_path_under_a_force_is_the_parabola_bit_for_bit():
+    """Free fall is drawn as before the scene's flight took over (the paper's figures do not change)."""
+    board = tables.galton_board(2.0, 0.9, 1.0, gamma=1.0)
+    orbit = ns.simulate(board, (1.0, 0.0), (0.6, 0.8), 0.2, max_collisions=40, stop_below=-12.0)
+    n = plot.orbit_nodes(orbit)
+    ax, ay = n["force"]
+    dur = np.clip(np.append(n["t"][1:], n["t_end"]) - n["t"], 0.0, None)
+    tau = dur[:, None] * np.linspace(0.0, 1.0, plot.orbits.POINTS_PER_FLIGHT)[None, :]
+    x, y = plot.orbit_path(orbit)
+    np.testing.assert_array_equal(x, (n["x"][:, None] + n["vx"][:, None] * tau + 0.5 * ax * tau ** 2).ravel())
+    np.testing.assert_array_equal(y, (n["y"][:, None] + n["vy"][:, None] * tau + 0.5 * ay * tau ** 2).ravel())
+
+
+def test_orbit_path_in_a_magnetic_field_follows_the_cyclotron_arcs():
+    from invariants import cyclotron_miss
+
+    scene = tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)], law="specular").replace(magnetic=-2.0)
+    orbit = ns.simulate(scene, (0.1, 0.1), (0.6, 0.8), max_collisions=10)
+    n = plot.orbit_nodes(orbit)
+    m = plot.orbits.POINTS_PER_FLIGHT
+    x, y = plot.orbit_path(orbit)
+    assert len(x) == m * len(n["t"])  # sampled along every arc: its ends alone draw the chord
+    t_of = np.repeat(n["t"], m)        # selects each sample's flight
+    assert cyclotron_miss(n, t_of, x, y, scene.magnetic) < 1e-9
+    assert (scene.depth(np.c_[x, y]) > -1e-9).all()
+
+
+def test_flight_states_fly_the_nodes_scene_and_hand_built_nodes_their_force():
+    from invariants import cyclotron_miss
+
+    nodes = {"t": np.array([0.0, 1.0]), "x": np.array([0.2, 0.4]), "y": np.array([0.3, 0.1]),
+             "vx": np.array([0.6, -0.8]), "vy": np.array([0.8, 0.6]), "spin": np.array([0.0, 0.1])}
+    times = np.linspace(0.0, 2.0, 9)
+    field = {**nodes, "scene": tables.rectangle(1.0, 1.0).replace(magnetic=1.5)}  # no "force" key needed
+    st = plot.flight_states(field, times)
+    assert cyclotron_miss(field, times, st["x"], st["y"], 1.5) < 1e-12 and not plot.straight_flights(field)
+    np.testing.assert_allclose(np.hypot(st["vx"], st["vy"]), 1.0, rtol=1e-14)  # a field does no work
+    fall = {**nodes, "force": (0.0, -2.0)}
+    st = plot.flight_states(fall, times)
+    k = (times >= 1.0).astype(int)
+    tau = times - nodes["t"][k]
+    np.testing.assert_array_equal(st["y"], nodes["y"][k] + nodes["vy"][k] * tau - tau ** 2)
+    assert plot.straight_flights({**nodes, "force": (0.0, 0.0)}) and not plot.straight_flights(fall)
+
+
 def test_straight_flights_use_two_points():
     orbit = ns.simulate(tables.rectangle(2.0, 1.0), (0.5, 0.5), (1.0, 0.3), max_collisions=5)
     x, _ = plot.orbit_path(orbit)

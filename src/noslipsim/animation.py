@@ -1,8 +1,10 @@
 r"""Animations of orbits (``noslipsim animate``): GIF through Pillow, MP4 through a packaged or system ffmpeg.
 
 Each orbit is simulated exactly (:func:`noslipsim.simulate`) and every frame
-evaluates its flights at the frame's time (:func:`noslipsim.plot.flight_states`),
-parabolic under a force, straight without; nothing is time-stepped.  Frames
+evaluates its flights at the frame's time (:func:`noslipsim.plot.flight_states`):
+the scene's exact flight, parabolic under a force, a cyclotron arc in a
+magnetic field, the thermostat's closed form, straight without any; nothing
+is time-stepped.  Frames
 are evenly spaced in time, except that the frame nearest each collision is
 drawn at the collision's exact time (:func:`noslipsim.plot.collision_frames`,
 a shift of at most half a frame), so the particle is drawn touching the wall
@@ -41,6 +43,7 @@ from .plot import (
     check_window,
     collision_frames,
     draw_table,
+    flight_samples,
     flight_states,
     orbit_colors,
     orbit_nodes,
@@ -54,7 +57,7 @@ __all__ = ["FORMATS", "animate", "ffmpeg_executable"]
 
 #: File formats written, by extension.
 FORMATS = ("gif", "mp4")
-#: Samples per flight of the trail under a force (straight flights need their ends only).
+#: Samples per curved flight of the trail (force or field; straight flights need their ends only).
 TRAIL_POINTS = 16
 #: At most this many frames (a longer animation is almost surely a mistake in --duration or --fps).
 MAX_FRAMES = 20_000
@@ -171,14 +174,14 @@ def _start_tuple(start, i):
 
 def _flight_samples(nodes, t_end):
     """Times and points along every flight up to ``t_end`` (the trail), each flight sampled on its curve."""
-    ax, ay = nodes["force"]
-    m = 2 if (ax, ay) == (0.0, 0.0) else TRAIL_POINTS
-    t_next = np.append(nodes["t"][1:], max(t_end, nodes["t"][-1]))
-    tau = np.clip(t_next - nodes["t"], 0.0, None)[:, None] * np.linspace(0.0, 1.0, m)[None, :]
-    t = (nodes["t"][:, None] + tau).ravel()
-    x = (nodes["x"][:, None] + nodes["vx"][:, None] * tau + 0.5 * ax * tau ** 2).ravel()
-    y = (nodes["y"][:, None] + nodes["vy"][:, None] * tau + 0.5 * ay * tau ** 2).ravel()
-    return t, x, y
+    t, x, y = flight_samples(nodes, np.append(nodes["t"][1:], max(t_end, nodes["t"][-1])), TRAIL_POINTS)
+    return t.ravel(), x.ravel(), y.ravel()
+
+
+def _title(scene):
+    """The frame's title: law, gamma, force, and the field where there is one."""
+    field = f", magnetic = {scene.magnetic:.4g}" if scene.magnetic != 0.0 else ""
+    return f"{scene.law}, gamma = {scene.gamma:.4g}, force = {list(scene.force)}{field}"
 
 
 def _computed_end(orbit):
@@ -312,7 +315,7 @@ def animate(scene: Scene, starts, output, *, max_collisions=30, max_time=None, d
         fig = plt.figure(figsize=FRAME_INCHES[bool(portrait)], dpi=dpi)
         ax = fig.add_subplot(1, 2 if portrait else 1, 1)
         draw_table(ax, scene, window)
-        ax.set_title(f"{scene.law}, gamma = {scene.gamma:.4g}, force = {list(scene.force)}", fontsize="small")
+        ax.set_title(_title(scene), fontsize="small")
         clock = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", fontsize="small")
         stopped = ax.text(0.98, 0.97, "", transform=ax.transAxes, va="top", ha="right", fontsize="x-small")
         trails, disks, markers = [], [], []

@@ -194,8 +194,11 @@ class ExplorerApp:
         self.law = pn.widgets.RadioButtonGroup(label="law", options=["no-slip", "specular"], value=m.scene.law)
         self.gamma = pn.widgets.EditableFloatSlider(label="gamma", start=0.0, end=3.0, step=0.01,
                                                     value=round(m.scene.gamma, 4))
-        self.force = pn.widgets.EditableFloatSlider(label="force strength", start=0.0, end=5.0, step=0.05,
-                                                    value=round(m.force_strength, 4))
+        # a field takes no force (the Scene refuses both): the control is shown off, saying why
+        self.force = pn.widgets.EditableFloatSlider(label="force strength" if m.force_allowed else
+                                                    "force strength (off: magnetic field)", start=0.0, end=5.0,
+                                                    step=0.05, value=round(m.force_strength, 4),
+                                                    disabled=not m.force_allowed)
         self.count = pn.widgets.IntSlider(label="particles per launch", start=1, end=lim.max_beam, value=1)
         self.launch_speed = pn.widgets.FloatInput(label="launch speed", value=1.0, step=0.1)
         self.angle = pn.widgets.FloatSlider(label="tap direction (degrees)", start=-180.0, end=180.0, step=1.0,
@@ -382,7 +385,8 @@ class ExplorerApp:
             f"**energy** {energy} &nbsp; **relative energy error** {r['energy_error']:.2e}  \n"
             f"**stop reasons** {reasons}  \n"
             f"{scene.law}, gamma = {_number(scene.gamma, 4)}, "
-            f"force = ({_number(scene.force[0], 3)}, {_number(scene.force[1], 3)})")
+            f"force = ({_number(scene.force[0], 3)}, {_number(scene.force[1], 3)})"
+            + (f", magnetic = {_number(scene.magnetic, 4)}" if scene.magnetic != 0.0 else ""))
 
     def _send_portrait(self):
         """The portrait image to the page (a few times a second while playing: one image, whatever the points)."""

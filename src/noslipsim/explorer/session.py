@@ -8,7 +8,9 @@ of what was computed: the orbit is recomputed from its start with twice the
 budget, which costs at most twice the collisions drawn and gives exactly the
 orbit :func:`noslipsim.simulate` gives (no continuation error, nothing
 time-stepped).  Each frame evaluates every orbit's current flight at the
-clock (:func:`noslipsim.plot.flight_states`) and hands the view what changed:
+clock (the scene's exact flight, :func:`noslipsim.plot.flight_states`: a
+parabola under a force, a cyclotron arc in a magnetic field, the thermostat's
+closed form) and hands the view what changed:
 particle positions and spin markers, the last flights as fading trails, and
 the collisions passed since the last frame as new portrait points (the
 paper's portrait for the law, :mod:`noslipsim.analysis.log_portrait`).
@@ -31,7 +33,7 @@ from ..analysis.log_portrait import boundary_length, log_portrait, paper_portrai
 from ..analysis.portraits import birkhoff_states, reduced_states
 from ..core.layout import STOP_REASONS
 from ..ensemble import simulate_many
-from ..plot import orbit_colors, view_window
+from ..plot import flight_samples, orbit_colors, view_window
 from ..scenes import Scene
 
 __all__ = ["FIRST_BUDGET", "Explorer", "Limits", "palette"]
@@ -41,7 +43,7 @@ FIRST_BUDGET = 1000
 #: Flights drawn in an orbit's trail, fading with age in TRAIL_BANDS steps.
 TRAIL_FLIGHTS = 12
 TRAIL_BANDS = 4
-#: Samples per flight of a trail under a force (straight flights need their ends).
+#: Samples per curved flight of a trail (force or field; straight flights need their ends).
 TRAIL_POINTS = 12
 #: Drawn particle radius, relative to the larger side of the view.
 PARTICLE_SIZE = 0.018
@@ -153,6 +155,11 @@ class Explorer:
             return -1.0, 1.0, -1.0, 1.0
         return 0.0, boundary_length(self.scene), -1.0, 1.0
 
+    @property
+    def force_allowed(self):
+        """False for a table with a magnetic field: a scene refuses a force together with a field."""
+        return self.scene.magnetic == 0.0
+
     def set_physics(self, law=None, gamma=None, force_strength=None):
         """Change the law, gamma or the force's strength (along its direction); every orbit is recomputed.
 
@@ -160,6 +167,9 @@ class Explorer:
         physics is compared from the same starts.
         """
         strength = self.force_strength if force_strength is None else finite_float(force_strength, "force")
+        if strength != 0.0 and not self.force_allowed:
+            raise ValueError(f"force: this table has a magnetic field (magnetic = {self.scene.magnetic:g}), "
+                             "which takes no force; the force stays 0")
         if not 0.0 <= strength <= self.limits.max_force:
             raise ValueError(f"force: the strength must be in [0, {self.limits.max_force:g}], got {strength:g}")
         if gamma is not None and finite_float(gamma, "gamma") > self.limits.max_gamma:
@@ -322,6 +332,7 @@ class Explorer:
                        zip(("t", "x", "y", "vx", "vy", "spin"),
                            (0.0, *st["position"], *st["velocity"], st["spin"]), strict=True)}
             o.nodes["force"] = (ax, ay)
+            o.nodes["scene"] = self.scene  # the flights between the nodes are this scene's (arcs in a field)
             o.nodes["t_end"] = float(ds.t_final[i])
             o.marks = log_portrait(self.scene, ds.element.values[i, :n], ds.s.values[i, :n], log["vx"], log["vy"],
                                    log["spin"], kind)
@@ -380,8 +391,9 @@ class Explorer:
     def frame(self):
         """What to draw at the clock's time, as flat arrays (sent to the page as binary columns).
 
-        Every position is the flight formula of :func:`noslipsim.plot.flight_states`,
-        evaluated for all orbits at once.
+        Every position is the scene's exact flight (:func:`noslipsim.plot.flight_samples`),
+        evaluated for all orbits at once; a trail samples each curved flight
+        (force or magnetic field) at :data:`TRAIL_POINTS` points.
 
         Returns
         -------
@@ -395,7 +407,6 @@ class Explorer:
             (its colour, :func:`palette`).
         """
         n = len(self.orbits)
-        ax, ay = self.scene.force
         cols = {k: [] for k in ("t", "x", "y", "vx", "vy", "end", "age", "ci")}
         last = np.empty(n, dtype=np.int64)  # row of each orbit's current flight
         angle = np.empty(n)
@@ -431,10 +442,8 @@ class Explorer:
                     "trails": {k: empty for k in ("x0", "y0", "x1", "y1", "ci", "alpha")},
                     "portrait": {k: empty for k in ("x", "y", "ci")}}
         c = {k: np.concatenate(v) for k, v in cols.items()}
-        m = 2 if (ax, ay) == (0.0, 0.0) else TRAIL_POINTS
-        d = np.clip(c["end"] - c["t"], 0.0, None)[:, None] * np.linspace(0.0, 1.0, m)[None, :]
-        x = c["x"][:, None] + c["vx"][:, None] * d + 0.5 * ax * d * d
-        y = c["y"][:, None] + c["vy"][:, None] * d + 0.5 * ay * d * d
+        _, x, y = flight_samples({**c, "scene": self.scene, "force": self.scene.force}, c["end"], TRAIL_POINTS)
+        m = x.shape[1]
         px, py = self._fold(x[last, -1], y[last, -1])
         parts = {"x": px, "y": py, "mx": px + self.radius * np.cos(angle), "my": py + self.radius * np.sin(angle),
                  "ci": ci}

@@ -34,7 +34,7 @@ Figure scripts read datasets and draw with these; they never simulate.
 """
 from .annotate import draw_angle, draw_force_arrow, draw_ray, label_point, ray_label_offset
 from .checks import EmptyFigureError, check_legend, legend_problems, load_figure_data, require_points
-from .flights import collision_frames, flight_states
+from .flights import collision_frames, flight_samples, flight_states, fly, straight_flights
 from .grids import draw_stability_grid
 from .numbers import numbers_markdown
 from .orbits import draw_orbit, draw_spin, mark_ends, orbit_nodes, orbit_path
@@ -61,7 +61,7 @@ from .table import auto_window, check_window, draw_table, scene_of, table_shapes
 __all__ = ["LAW_COLORS", "STYLE", "auto_window", "draw_orbit", "draw_portrait", "draw_spin", "draw_stability_grid",
            "draw_table", "law_color", "mark_ends", "numbers_markdown", "orbit_nodes", "orbit_path",
            "portrait_points", "save_figure", "scene_of", "style_context", "table_shapes", "use_style", "view_window"]
-__all__ += ["check_window", "collision_frames", "flight_states"]
+__all__ += ["check_window", "collision_frames", "flight_samples", "flight_states", "fly", "straight_flights"]
 __all__ += ["draw_angle", "draw_arrow3d", "draw_force_arrow", "draw_ray", "label_point", "ray_label_offset",
             "sphere_path"]
 __all__ += ["draw_class_boundary", "draw_deviation", "draw_return_points", "draw_two_disk_setup", "return_points"]

@@ -1,14 +1,16 @@
 r"""Draw orbits: the exact path between collisions, spin markers, start and end dots.
 
-Between collisions a particle flies on the parabola
+Between collisions a particle flies the scene's exact flight
+(:func:`noslipsim.plot.flights.fly`): under a force the parabola
 
 .. math::
 
     q(t) = q_k + v_k (t - t_k) + \tfrac12 a (t - t_k)^2, \qquad t_k \le t \le t_{k+1},
 
-with ``a`` the scene's force, so the path is rebuilt from the collision log
-(docs/datasets.md) and sampled along every flight, not joined by straight
-chords.  The scaled spin ``w = gamma R omega`` (counter-clockwise positive,
+with ``a`` the scene's force, the thermostat's closed-form path, or a
+cyclotron arc in a magnetic field, so the path is rebuilt from the collision
+log (docs/datasets.md) and sampled along every curved flight, not joined by
+straight chords.  The scaled spin ``w = gamma R omega`` (counter-clockwise positive,
 docs/conventions.md) is constant on a flight; a spin marker is the particle
 drawn as a small circle with an arrow inside that turns the way the particle
 spins, over an angle proportional to ``|w| / sqrt(|v|^2 + w^2)`` (the share of
@@ -27,10 +29,11 @@ from matplotlib.patches import Circle as CirclePatch
 from matplotlib.patches import FancyArrowPatch
 from matplotlib.path import Path
 
+from .flights import flight_samples, fly
 from .style import law_color
 from .table import scene_of
 
-#: Points sampled on each flight under a force (a straight flight needs two).
+#: Points sampled on each curved flight (force or field; a straight flight needs two).
 POINTS_PER_FLIGHT = 24
 #: A spin arrow turns this many degrees when all of the speed is spin.
 SPIN_ARC_MAX = 300.0
@@ -82,7 +85,7 @@ def orbit_nodes(orbit):
     -------
     dict
         ``t, x, y, vx, vy, spin`` arrays (start, then every collision),
-        ``t_end`` and the force ``(a_x, a_y)``.
+        ``t_end``, the ``scene`` (whose flights join the nodes) and its force ``(a_x, a_y)``.
 
     Raises
     ------
@@ -101,19 +104,20 @@ def orbit_nodes(orbit):
     start = _start(orbit)
     nodes = {k: np.concatenate([[s], log[k][keep]]) for k, s in zip(_LOG, (0.0, *start))}
     nodes["t_end"] = _scalar(orbit, "t_final")
-    nodes["force"] = scene_of(orbit).force
+    nodes["scene"] = scene_of(orbit)
+    nodes["force"] = nodes["scene"].force
     return nodes
 
 
 def orbit_path(orbit, points_per_flight=POINTS_PER_FLIGHT):
-    """The continuous path ``(x, y)`` of one orbit, every flight sampled on its parabola.
+    """The continuous path ``(x, y)`` of one orbit, every flight sampled on its curve (parabola, arc).
 
     Parameters
     ----------
     orbit : xarray.Dataset
         One orbit (see :func:`orbit_nodes`).
     points_per_flight : int
-        Samples per flight under a force (>= 2); straight flights use their two ends.
+        Samples per curved flight (>= 2); straight flights use their two ends.
 
     Returns
     -------
@@ -122,24 +126,15 @@ def orbit_path(orbit, points_per_flight=POINTS_PER_FLIGHT):
     if isinstance(points_per_flight, bool) or int(points_per_flight) != points_per_flight or points_per_flight < 2:
         raise ValueError(f"points_per_flight: expected an integer >= 2, got {points_per_flight!r}")
     n = orbit_nodes(orbit)
-    ax, ay = n["force"]
-    m = 2 if (ax, ay) == (0.0, 0.0) else int(points_per_flight)
-    t_next = np.append(n["t"][1:], n["t_end"])
-    dur = np.clip(t_next - n["t"], 0.0, None)
-    tau = dur[:, None] * np.linspace(0.0, 1.0, m)[None, :]
-    x = n["x"][:, None] + n["vx"][:, None] * tau + 0.5 * ax * tau ** 2
-    y = n["y"][:, None] + n["vy"][:, None] * tau + 0.5 * ay * tau ** 2
+    _, x, y = flight_samples(n, np.append(n["t"][1:], n["t_end"]), points_per_flight)
     return x.ravel(), y.ravel()
 
 
 def _flight_points(n, share=0.5):
     """Position, velocity and spin at ``share`` of the duration of every flight (0.5: the middle)."""
-    ax, ay = n["force"]
     t_next = np.append(n["t"][1:], n["t_end"])
     tau = share * np.clip(t_next - n["t"], 0.0, None)
-    x = n["x"] + n["vx"] * tau + 0.5 * ax * tau ** 2
-    y = n["y"] + n["vy"] * tau + 0.5 * ay * tau ** 2
-    return x, y, n["vx"] + ax * tau, n["vy"] + ay * tau, n["spin"]
+    return (*fly(n, n["x"], n["y"], n["vx"], n["vy"], tau), n["spin"])
 
 
 def _spin_spots(n, scene, spin_every, radius):
