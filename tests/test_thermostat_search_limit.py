@@ -51,7 +51,7 @@ def one_step(monkeypatch):
         monkeypatch.setattr(thermo_events, name, getattr(thermo_events, name).py_func)
     monkeypatch.setattr(thermo_flight, "element_hit", thermo_events.element_hit)
     flight_py = types.ModuleType("thermo_flight_py")
-    for name in ("start", "state_at", "speed_bound", "element_exit", "face_exit", "line_exit"):
+    for name in ("start", "state_at", "speed_bound", "window", "element_exit", "face_exit", "line_exit"):
         setattr(flight_py, name, getattr(thermo_flight, name).py_func)
     hit_in_cell, walk_hit, _exact = search.event_search(flight_py, compile=lambda func: func)
     return hit_in_cell, walk_hit
