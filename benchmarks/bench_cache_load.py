@@ -37,6 +37,10 @@ CASES = {  # name -> (scene expression with `ns`, start, orbits, limits)
     "pentagon, no-slip": ("ns.tables.regular_polygon(5)", (0.1, 0.05), 4, {"max_collisions": 500_000}),
     "Sinai box, no-slip": ("ns.tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)])", (0.1, 0.1), 4,
                            {"max_collisions": 500_000}),
+    "magnetic Sinai box, no-slip": ("ns.tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)]).replace(magnetic=0.7)",
+                                    (0.1, 0.1), 4, {"max_collisions": 200_000}),
+    "magnetic Sinai torus, specular": ("ns.tables.sinai_torus(0.3, law='specular').replace(magnetic=0.7)",
+                                       (0.0, 0.45), 8, {"max_collisions": 100_000}),
 }
 
 CHILD = """

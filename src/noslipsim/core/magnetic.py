@@ -167,16 +167,17 @@ def zeta_time(num, den, W):
 
 
 @jit(inline="always")
-def exit_time(c0, c1, c2, m0, m1, m2, W, deflate):
-    """The exit root's time in ``(0, 2 pi/|W|)`` of the quadratic in ``zeta`` (``inf``: none, or a certified graze)."""
+def exit_root(c0, c1, c2, m0, m1, m2, deflate):
+    """``(found, num, den)``: the exit root ``zeta = num / den`` (``den >= 0``) of the quadratic in ``zeta``;
+    ``found`` false for none or a certified graze."""
     if deflate:
         if not c1 > 0.0:  # on the element and not moving into the table: its exit is t = 0 itself
-            return INF
+            return False, 0.0, 0.0
         num, den = -c1, c2
     else:
         D, bound = discriminant(c0, c1, c2, m0, m1, m2)
         if D <= bound:  # no crossing, or a tangency to rounding (certified grazing)
-            return INF
+            return False, 0.0, 0.0
         sq = math.sqrt(D)
         if c1 >= 0.0:
             num, den = -0.5 * (c1 + sq), c2
@@ -184,7 +185,33 @@ def exit_time(c0, c1, c2, m0, m1, m2, W, deflate):
             num, den = c0, 0.5 * (sq - c1)
     if den < 0.0:
         num, den = -num, -den
+    return True, num, den
+
+
+@jit(inline="always")
+def exit_time(c0, c1, c2, m0, m1, m2, W, deflate):
+    """The exit root's time in ``(0, 2 pi/|W|)`` of the quadratic in ``zeta`` (``inf``: none, or a certified graze)."""
+    found, num, den = exit_root(c0, c1, c2, m0, m1, m2, deflate)
+    if not found:
+        return INF
     return zeta_time(num, den, W)
+
+
+@jit(inline="always")
+def root_position(x, y, vx, vy, W, num, den):
+    """The position at the root ``zeta = num / den`` without a trigonometric function.
+
+    With ``u = tan(theta/2) = W zeta / 2``: ``S = sin(theta)/W = zeta / (1 + u^2)`` and
+    ``Q = (1 - cos(theta))/W = W zeta^2 / (2 (1 + u^2))``, i.e. ``S = 4 num den / k`` and
+    ``Q = 2 W num^2 / k`` with ``k = 4 den^2 + W^2 num^2``: rational, finite at half a period
+    (``den = 0``) and at ``W = 0``.  For extent tests (the event loop forms the hit itself with
+    :func:`advance` at the root's time).
+    """
+    wn = W * num
+    k = 4.0 * den * den + wn * wn
+    S = 4.0 * num * den / k
+    Q = 2.0 * wn * num / k
+    return x + S * vx - Q * vy, y + S * vy + Q * vx
 
 
 @jit(inline="always")

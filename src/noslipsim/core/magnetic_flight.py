@@ -12,8 +12,15 @@ import math
 from .geometry import extent_position
 from .jit import jit
 from .layout import ARC, LINE, SEGMENT
-from .magnetic import advance, circle_exit, exit_time
-from .magnetic import line_exit as _line_element_exit
+from .magnetic import (
+    advance,
+    circle_coefficients,
+    exit_root,
+    exit_time,
+    line_coefficients,
+    root_position,
+    zeta_time,
+)
 
 INF = math.inf
 
@@ -65,13 +72,17 @@ def element_exit(kind, p, G, sx, sy, deflate, lo, hi, extent_tol):
         if gap > math.hypot(vx, vy) * (hi - lo) * (1.0 + 1e-9) + extent_tol:
             return INF
     if kind == LINE or kind == SEGMENT:  # layout normals point into the table; magnetic's out of it
-        t = _line_element_exit(x, y, vx, vy, W, p[0], p[1], -p[2], -p[3], deflate)
+        c0, c1, c2, m0, m1, m2 = line_coefficients(x, y, vx, vy, W, p[0], p[1], -p[2], -p[3], deflate)
     else:
-        t = circle_exit(x, y, vx, vy, W, p[0], p[1], p[2], p[3], deflate)
+        c0, c1, c2, m0, m1, m2 = circle_coefficients(x, y, vx, vy, W, p[0], p[1], p[2], p[3], deflate)
+    found, num, den = exit_root(c0, c1, c2, m0, m1, m2, deflate)
+    if not found:
+        return INF
+    t = zeta_time(num, den, W)
     if t == INF or lo + t > hi:
         return INF
-    if kind == SEGMENT or kind == ARC:
-        hx, hy = advance(x, y, vx, vy, W, t)[:2]
+    if kind == SEGMENT or kind == ARC:  # the point from the root itself: no sine or cosine
+        hx, hy = root_position(x, y, vx, vy, W, num, den)
         if extent_position(kind, p, hx, hy, extent_tol) < 0:
             return INF
     return lo + t
