@@ -195,7 +195,7 @@ def figure_files(name):
 NUMBERS = {
     "galton": figure(None, {"distribution": "galton_distribution", "arrivals": "galton_arrivals",
                             "sweep": "galton_radius_sweep", "rows": "galton_rows"}),
-    "evidence": figure(None, {"evidence": "galton_evidence"}),
+    "evidence": figure(None, {"evidence": "galton_evidence", "sweep": "galton_radius_sweep"}),
     "orbits": figure(None, {"specnoslip": "orbits_specnoslip", "pentagons": "orbits_pentagons",
                             "bounce": "orbits_bounce", "twodisks": "orbits_twodisks", "sphere": "orbits_sphere"}),
     "stability": figure(None, {"noforce": "stability_grid_noforce", "force": "stability_grid_force",
