@@ -70,8 +70,8 @@ for law in ("specular", "no-slip"):
         value=significant(p, SHARE), stderr=significant(e, ERROR), format=".2%", paper="apparently Gaussian",
         note="noslipsim.analysis.tail_share: a count, not set by the farthest few as the kurtosis is")
     numbers[f"beyond_histogram_{law.replace('-', '')}"] = dict(
-        description=f"{law} arrived particles beyond ±{SPAN:g} standard deviations (outside Figure 3's top panels, "
-                    "counted there; its tails panel draws every particle)",
+        description=f"{law} arrived particles beyond ±{SPAN:g} standard deviations from the mean (counted in Figure "
+                    "3's top panels, whose axes reach as far for the wider law; its tails panel draws every particle)",
         value=int(np.sum(np.abs(x - x.mean()) > SPAN * x.std(ddof=1))), format="d")
 for law in ("specular", "no-slip"):
     kurtoses, shares, arrived = [], [], []
