@@ -98,6 +98,21 @@ for law in ("specular", "no-slip"):
         description=f"{law} share arrived against the number of rows, and the time each board ran to (deeper "
                     "boards run longer, galton.rows_sweep.time_exponent)",
         value=", ".join(arrived))
+    # the deepest board alone, as numbers the prose can quote: where the tails stand after the most rows
+    x = rows.x_terminal.isel(case=-1).sel(law=law).values
+    share = float(np.isfinite(x).mean())
+    x = x[np.isfinite(x)]
+    deepest = int(rows.rows.values[-1])
+    k, ke = excess_kurtosis(x)
+    p, e, normal = tail_share(x)
+    numbers[f"kurtosis_deepest_{name}"] = dict(
+        description=f"{law} excess kurtosis of the terminal displacement on the deepest board ({deepest} rows, "
+                    f"{share:.1%} arrived by {float(rows.max_time.values[-1]):.0f})",
+        value=significant(k, STATISTIC), stderr=significant(ke, ERROR), format=".2f", paper="apparently Gaussian")
+    numbers[f"tail_share_deepest_{name}"] = dict(
+        description=f"{law} share beyond 3 standard deviations on the deepest board ({deepest} rows; normal law: "
+                    f"{normal:.2%})",
+        value=significant(p, SHARE), stderr=significant(e, ERROR), format=".2%", paper="apparently Gaussian")
 factor, m = long_run.attrs["time_factor"], long_run.attrs["n_particles"]
 for law, g in (("no-slip", gamma), ("specular", None)):
     p, e = share(long_run, law, g)
