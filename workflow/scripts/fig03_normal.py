@@ -95,7 +95,7 @@ plot.use_style()
 fig = plt.figure(figsize=(6.5, 5.6), constrained_layout=True)
 top = fig.subfigures(2, 1, height_ratios=[1.0, 1.0])
 axes = np.atleast_1d(top[0].subplots(1, ds.sizes["law"], sharex=True, sharey=True))
-low, kurt, share = top[1].subplots(1, 3, width_ratios=[1.3, 1.0, 1.0])
+low, kurt, share = top[1].subplots(1, 3, width_ratios=[1.2, 1.0, 1.0])
 zmax = SPAN
 for ax, i in zip(axes, range(ds.sizes["law"])):
     case = ds.isel(law=i)
@@ -130,12 +130,12 @@ def against_rows(ax, statistic):
         ax.errorbar(rows.rows.values[~ok] * shift, values[~ok, 0], yerr=values[~ok, 1], marker=style["marker"],
                     markersize=3.5, capsize=2, linestyle="none", color="0.6", markerfacecolor="none")
         for r, v, a in zip(rows.rows.values[~ok], values[~ok, 0], arrived[~ok]):
-            ax.annotate(f"{a:.0%}", (r * shift, v), textcoords="offset points", xytext=(4, -8 + 12 * j), fontsize=6,
+            ax.annotate(f"{a:.1%}", (r * shift, v), textcoords="offset points", xytext=(4, -8 + 12 * j), fontsize=6,
                         color=plot.law_color(law))
     ax.set_xscale("log")
     ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     ax.set_xticks(rows.rows.values, [str(int(r)) for r in rows.rows.values])
-    ax.set_xlabel("rows to the terminal depth")
+    ax.set_xlabel("rows")
 
 
 against_rows(kurt, excess_kurtosis)
@@ -143,9 +143,11 @@ kurt.axhline(0.0, color="k", linewidth=0.6)
 kurt.set(ylabel="excess kurtosis $\\kappa$", title="$\\kappa$ (0: normal)")
 kurt.legend(fontsize=6, loc="upper right")
 against_rows(share, lambda v: tail_share(v, sigmas=SIGMAS)[:2])
-share.axhline(tail_share([0, 1], sigmas=SIGMAS)[2], color="k", linewidth=0.6)
-share.yaxis.set_major_formatter(matplotlib.ticker.PercentFormatter(1.0, decimals=1))
-share.set(ylabel=f"share beyond {SIGMAS:g}$\\sigma$", title=f"beyond {SIGMAS:g}$\\sigma$ (line: normal)")
-top[1].suptitle(f"{rows.attrs['n_particles']:,} particles per board, deeper boards run longer; grey: fewer than "
-                f"{ARRIVED_CLAIM:.0%} arrived (the share given)", fontsize=7)
+normal = tail_share([0, 1], sigmas=SIGMAS)[2]
+share.axhline(normal, color="k", linewidth=0.6)
+share.text(0.98, normal, "normal", transform=share.get_yaxis_transform(), ha="right", va="bottom", fontsize=6.5)
+share.yaxis.set_major_formatter(matplotlib.ticker.PercentFormatter(1.0))
+share.set(ylabel=f"share beyond {SIGMAS:g}$\\sigma$", title=f"beyond {SIGMAS:g}$\\sigma$")
+top[1].suptitle(f"{rows.attrs['n_particles']:,} particles per board (rows to the terminal depth), deeper ones run "
+                f"longer; grey: fewer than {ARRIVED_CLAIM:.0%} arrived (the share given)", fontsize=7)
 plot.save_figure(fig, snakemake.output.pdf)  # writes the .pdf and the .png beside it

@@ -100,14 +100,14 @@ for law in ("specular", "no-slip"):
         value=", ".join(arrived))
     # the deepest board alone, as numbers the prose can quote: where the tails stand after the most rows
     x = rows.x_terminal.isel(case=-1).sel(law=law).values
-    share = float(np.isfinite(x).mean())
+    arrived_share = float(np.isfinite(x).mean())
     x = x[np.isfinite(x)]
     deepest = int(rows.rows.values[-1])
     k, ke = excess_kurtosis(x)
     p, e, normal = tail_share(x)
     numbers[f"kurtosis_deepest_{name}"] = dict(
         description=f"{law} excess kurtosis of the terminal displacement on the deepest board ({deepest} rows, "
-                    f"{share:.1%} arrived by {float(rows.max_time.values[-1]):.0f})",
+                    f"{arrived_share:.1%} arrived by {float(rows.max_time.values[-1]):.0f})",
         value=significant(k, STATISTIC), stderr=significant(ke, ERROR), format=".2f", paper="apparently Gaussian")
     numbers[f"tail_share_deepest_{name}"] = dict(
         description=f"{law} share beyond 3 standard deviations on the deepest board ({deepest} rows; normal law: "
