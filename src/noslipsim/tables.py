@@ -237,7 +237,7 @@ def walled_galton_board(spacing=2.0, radius=0.5, gravity=1.0, *, rows, width, to
     width``; nothing above the top row, as on the bounded lattice.  The walls
     are two vertical lines (the last two elements), with the scene's ``law``
     unless ``wall_law`` gives them their own.  A plain scene: the cost of a
-    collision grows with the number of pegs (about ``(rows + 1) width /
+    collision grows with the number of pegs (about ``2 (rows + 1) width /
     spacing``).
 
     Parameters
