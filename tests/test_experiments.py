@@ -183,3 +183,52 @@ def test_galton_evidence_stacks_cases_and_refuses_bad_ones():
         ex.galton_evidence([{"name": "x", "gravity": 2.0}], 2)
     with pytest.raises(ValueError, match="at least one case"):
         ex.galton_evidence([], 2)
+
+
+def test_walled_board_holds_its_pegs_and_particles_between_the_walls():
+    board = tables.walled_galton_board(2.0, 0.89, rows=2, width=5.0)
+    pegs, walls = board.elements[:-2], board.elements[-2:]
+    centres = np.array([p.center for p in pegs])
+    # rows 0, -1, -2 of the triangular lattice; only whole disks inside |x| < 5
+    assert sorted(set(np.round(centres[:, 1], 9))) == pytest.approx([-2 * math.sqrt(3), -math.sqrt(3), 0.0])
+    assert (np.abs(centres[:, 0]) + 0.89 < 5.0).all() and len(pegs) == 5 + 4 + 5
+    assert [w.point[0] for w in walls] == [-5.0, 5.0] and [w.normal[0] for w in walls] == [1.0, -1.0]
+    for bad, match in ((dict(width=0.5), "width"), (dict(width=-1.0), "width"), (dict(rows=0), "rows")):
+        with pytest.raises(ValueError, match=match):
+            tables.walled_galton_board(2.0, 0.89, **{"rows": 2, "width": 5.0, **bad})
+    kw = dict(rows=3, max_time=400.0, radius=0.89, seed=3, top_row=0, start=(0.0, 2.0), spread=0.5, progress=False)
+    walled = ex.galton_distribution(60, width=3.0, **kw)
+    assert walled.attrs["width"] == 3.0 and ex.galton_distribution(2, **kw).attrs["width"] == math.inf
+    assert (np.abs(walled.x_end.values) <= 3.0).all() and walled.arrived.values.any()
+    assert walled.attrs["wall_law"] == "pegs"
+    with pytest.raises(ValueError, match="top row"):
+        ex.galton_distribution(2, width=3.0, **{**kw, "top_row": None})
+    with pytest.raises(ValueError, match="wall_law"):
+        ex.galton_distribution(2, wall_law="specular", **kw)
+
+
+def test_walls_far_from_every_particle_change_nothing():
+    # the walled board is a plain scene, the bounded one a lattice: the same pegs, so the same first collisions
+    # (rounding differs and the board is chaotic, a factor ~4 per collision: 8 collisions stay within 1e-9)
+    n = 40
+    pos = np.array([0.0, 2.0]) + np.random.default_rng(3).uniform(-0.5, 0.5, (n, 2))
+    vel = initial.unit_velocities(n, 3)
+    logs = [ns.simulate_many(scene, pos, vel, max_collisions=8, max_time=60.0, stop_below=-2 * math.sqrt(3),
+                             record="log", progress=False)
+            for scene in (tables.galton_board(2.0, 0.89, top_row=0),
+                          tables.walled_galton_board(2.0, 0.89, rows=2, width=200.0))]
+    assert np.nanmax(np.abs(logs[0].x.values)) < 100.0  # no particle came within 100 of a wall
+    assert np.isfinite(logs[0].t.values).sum() > 4 * n
+    for key in ("t", "x", "y", "vx", "vy", "spin"):
+        np.testing.assert_allclose(logs[1][key].values, logs[0][key].values, rtol=1e-9, atol=1e-9)
+
+
+def test_galton_evidence_runs_each_case_to_its_own_time_and_width():
+    cases = [{"name": "short", "group": "rows", "rows": 1, "max_time": 5.0},
+             {"name": "walled", "group": "width", "rows": 1, "width": 4.0, "wall_law": "specular"}]
+    ev = ex.galton_evidence(cases, 20, max_time=40.0, radius=0.8, seed=1, top_row=0, start=(0.0, 2.0),
+                            progress=False)
+    assert list(ev.max_time.values) == [5.0, 40.0] and ev.attrs["max_time"] == 40.0
+    assert list(ev.width.values) == [math.inf, 4.0] and list(ev.wall_law.values) == ["none", "specular"]
+    assert not (ev.t_terminal.sel(case="short").values > 5.0).any()
+    assert (ev.t_terminal.sel(case="walled").values > 5.0).any()

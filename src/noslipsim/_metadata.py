@@ -84,7 +84,7 @@ VARIABLES = {
                           "1"),
     "radius": ("disk radius (Galton pegs; Sinai disks on the unit torus; the two disks of a stability grid, "
                "centres 2 apart)", "1"),
-    "group": ("the setting a Galton evidence case varies (drop, point, spread, speed, radius, rows)", "1"),
+    "group": ("the setting a Galton evidence case varies (drop, point, spread, speed, radius, rows, width)", "1"),
     "board": ("Galton board: 'bounded' (a top row with nothing above it) or 'unbounded' (the lattice continues up)",
               "1"),
     "start_x": ("x of the release point (the centre of the release spread)", "1"),
@@ -92,6 +92,9 @@ VARIABLES = {
     "spread": ("half-width of the square of release points around the release point", "1"),
     "speed": ("release speed (uniformly random direction)", "1"),
     "rows": ("peg rows to the terminal depth", "1"),
+    "width": ("half-width of a walled Galton board, side walls at x = -width and x = width (inf: no walls)", "1"),
+    "wall_law": ("collision law of a Galton board's side walls ('none': no walls, 'pegs': the pegs' law)", "1"),
+    "max_time": ("time limit of the case's run", "1"),
     # ------------------------------------------------ experiments.portraits
     "case": ("the experiment case of the entry (its name, label or index)", "1"),
     "table": ("name of the table", "1"),

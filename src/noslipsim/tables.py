@@ -225,3 +225,53 @@ def galton_board(spacing=2.0, radius=0.5, gravity=1.0, *, law="no-slip", gamma=U
     return Scene((Circle((0.0, 0.0), radius, "outside"),), law=law, gamma=gamma, force=(0.0, -gravity),
                  lattice={"a1": [spacing, 0.0], "a2": [spacing / 2, row]},
                  top=None if top_row is None else (int(top_row) + 0.5) * row)
+
+
+def walled_galton_board(spacing=2.0, radius=0.5, gravity=1.0, *, rows, width, top_row=0, law="no-slip",
+                        gamma=UNIFORM_DISK, wall_law=None):
+    """A finite Galton board: the pegs of :func:`galton_board` between two side walls at ``x = +-width``.
+
+    The pegs of rows ``top_row`` down to ``top_row - rows`` (the row at the
+    terminal depth of :func:`noslipsim.experiments.galton_distribution`
+    included) whose whole disk lies between the walls, ``|x| + radius <
+    width``; nothing above the top row, as on the bounded lattice.  The walls
+    are two vertical lines (the last two elements), with the scene's ``law``
+    unless ``wall_law`` gives them their own.  A plain scene: the cost of a
+    collision grows with the number of pegs (about ``2 (rows + 1) width /
+    spacing``).
+
+    Parameters
+    ----------
+    spacing, radius, gravity, law, gamma
+        As in :func:`galton_board`.
+    rows : int
+        Rows below the top row (``rows + 1`` rows of pegs), >= 1.
+    width : float
+        Half-width of the board (walls at ``x = -width`` and ``x = width``),
+        larger than ``radius``.
+    top_row : int
+        The top row's index (its pegs at height ``top_row spacing sqrt(3)/2``).
+    wall_law : {None, 'no-slip', 'specular'}
+        The walls' own collision law (``None``: the scene's ``law``).
+    """
+    if not 0 < 2 * radius < spacing:
+        raise ValueError(f"radius: pegs must not touch (0 < 2 radius < spacing), got {radius}")
+    if not gravity > 0:
+        raise ValueError(f"gravity: must be > 0, got {gravity}")
+    if isinstance(rows, bool) or not isinstance(rows, (int, np.integer)) or rows < 1:
+        raise ValueError(f"rows: expected an integer >= 1, got {rows!r}")
+    if isinstance(top_row, bool) or not isinstance(top_row, (int, np.integer)):
+        raise TypeError(f"top_row: expected an integer row index, got {top_row!r}")
+    width = positive(width, "width")
+    if not width > radius:
+        raise ValueError(f"width: the walls must leave room for a peg (width > radius = {radius}), got {width}")
+    row = spacing * math.sqrt(3.0) / 2.0
+    reach = math.ceil(width / spacing) + 1
+    pegs = []
+    for j in range(int(top_row), int(top_row) - int(rows) - 1, -1):
+        # the triangular lattice: each row down is shifted by half a spacing (a2 = (spacing/2, row))
+        for x in spacing * np.arange(-reach, reach + 1) + (spacing / 2) * (j % 2):
+            if abs(x) + radius < width:
+                pegs.append(Circle((float(x), j * row), radius, "outside"))
+    walls = (Line((-width, 0.0), (1.0, 0.0), law=wall_law), Line((width, 0.0), (-1.0, 0.0), law=wall_law))
+    return Scene((*pegs, *walls), law=law, gamma=gamma, force=(0.0, -gravity))

@@ -38,8 +38,11 @@ def stability_common():
 # {none, log, portrait}: none for simulate_many's final states and counts, log for simulate() and
 # full collision logs (one kernel), portrait for phase-portrait points.
 KERNELS = {
+    # the boards (lattice) and, for Figure S2's side walls, the walled boards (plain scenes: walls of the pegs'
+    # law, or specular walls around no-slip pegs)
     "galton": ["lattice+force:no-slip:none", "lattice+force:specular:none",
-               "lattice+force:no-slip:log", "lattice+force:specular:log"],
+               "lattice+force:no-slip:log", "lattice+force:specular:log",
+               "plain+force:no-slip:none", "plain+force:specular:none", "mixed+force:no-slip:none"],
     # wedges (simulate, monodromy, the periodic-orbit finder) and the two-disk grids
     "stability": ["walls+force:no-slip:log", "walls+force:no-slip:none", "plain:no-slip:log", "plain:no-slip:none"],
     # the rectangle and polygons; the bouncing ball (half-plane) and the wedges of Figure 6 under gravity
@@ -197,7 +200,7 @@ def figure_files(name):
 NUMBERS = {
     "galton": figure(None, {"distribution": "galton_distribution", "arrivals": "galton_arrivals",
                             "sweep": "galton_radius_sweep", "rows": "galton_rows"}),
-    "evidence": figure(None, {"evidence": "galton_evidence"}),
+    "evidence": figure(None, {"evidence": "galton_evidence", "sweep": "galton_radius_sweep"}),
     "orbits": figure(None, {"specnoslip": "orbits_specnoslip", "pentagons": "orbits_pentagons",
                             "bounce": "orbits_bounce", "twodisks": "orbits_twodisks", "sphere": "orbits_sphere"}),
     "stability": figure(None, {"noforce": "stability_grid_noforce", "force": "stability_grid_force",

@@ -1,4 +1,8 @@
-"""Figure S2: what the Galton board's not-arrived share depends on: the drop, the release, the radius, the rows."""
+"""Figure S2: what the Galton board's not-arrived share depends on.
+
+The drop, the release, the peg radius, the rows and the side walls; the last panel sets side by side the
+boards that all leave about 40 % not arrived by T, which only the share still out at 10 T tells apart.
+"""
 import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
@@ -33,8 +37,8 @@ def cases_of(group, drop=None):
 
 
 plot.use_style()
-fig, axes = plt.subplots(2, 2, figsize=(6.5, 5.4), constrained_layout=True)
-(a, b), (c, d) = axes
+fig, axes = plt.subplots(3, 2, figsize=(6.5, 8.0), constrained_layout=True)
+(a, b), (c, d), (walls, readings) = axes
 
 # (a) share not arrived against time, both drops, both laws
 # the gap drop on the bounded board: energy keeps a particle dropped in the top gap below the next row's
@@ -104,6 +108,65 @@ for ax, group, xlabel, title in ((c, "radius", f"peg radius (spacing {ev.attrs['
         ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.set_xticks(sorted({float(v) for v in ev.rows.values}), [f"{int(v)}" for v in sorted(set(ev.rows.values))])
 c.legend(fontsize=5.5, loc="upper left")
+
+
+def by_t_and_10t(ax, xs, cases, connect=True, **style):
+    """No-slip shares not arrived by T (open, dashed) and by 10 T (filled, solid) at ``xs``."""
+    for by, when, fill in WHEN:
+        ps = np.array([not_arrived(k, "no-slip", by) for k in cases])
+        line = ("--" if fill == "none" else "-") if connect else "none"  # categories are not joined
+        ax.errorbar(xs, ps[:, 0], yerr=ps[:, 1], capsize=2, color=plot.law_color("no-slip"), markerfacecolor=fill,
+                    linestyle=line, linewidth=0.8, label=f"no-slip, by {when}", **style)
+
+
+# (e) the side walls: walled boards of several half-widths, against the same board without walls
+def walled_cases(wall_law):
+    """Cases of the walled boards whose walls have ``wall_law`` ('pegs': the pegs' law), by width."""
+    return sorted((k for k in cases_of("width") if str(ev.wall_law.sel(case=k).values) == wall_law),
+                  key=lambda k: float(ev.width.sel(case=k)))
+
+
+walled = walled_cases("pegs")
+widths = [float(ev.width.sel(case=k)) for k in walled]
+by_t_and_10t(walls, widths, walled, marker="o", markersize=3.5)
+specular_walls = walled_cases("specular")
+for by, when, fill in WHEN:
+    ps = np.array([not_arrived(k, "no-slip", by) for k in specular_walls]).reshape(-1, 2)
+    beside = [1.08 * float(ev.width.sel(case=k)) for k in specular_walls]  # beside the pegs' walls, not on top
+    walls.errorbar(beside, ps[:, 0], yerr=ps[:, 1], marker="^", markersize=4, capsize=2, linestyle="none",
+                   color=plot.law_color("no-slip"), markerfacecolor=fill, label=f"no-slip, specular walls, by {when}")
+ps = np.array([not_arrived(k, "specular", T) for k in walled])
+walls.plot(widths, ps[:, 0], marker="o", markersize=3, color=plot.law_color("specular"), markerfacecolor="none",
+           linestyle=":", linewidth=0.8, label="specular, by T")
+drawn = [not_arrived(k, "no-slip", T)[0] for k in walled + specular_walls + ["board"]]
+top = min(1.0, max(0.25, 1.4 * max(drawn)))  # the walled shares are small: an axis to their scale
+for by, when, fill in WHEN:
+    p, _ = not_arrived("board", "no-slip", by)
+    walls.axhline(p, color=plot.law_color("no-slip"), linewidth=0.6, linestyle="--" if fill == "none" else "-",
+              alpha=0.5)
+    walls.text(0.99, p, f"no walls, by {when}", transform=walls.get_yaxis_transform(), fontsize=6, va="bottom",
+           ha="right", color=plot.law_color("no-slip"))
+walls.set_xscale("log")
+walls.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+walls.set_xticks(widths, [f"{w:g}" for w in widths])
+walls.set_xlim(widths[0] / 1.5, widths[-1] * 3.0)  # room for the no-walls labels on the right
+walls.set(xlabel="half-width of the walled board (walls at x = ±width)", ylabel="share not arrived",
+          ylim=(-0.02 * top, top),
+      title="(e) the side walls (walls of the pegs' law unless said)")
+walls.legend(fontsize=5.5, loc="upper left")
+
+# (f) the readings near 40 % by T: by T alone they look alike, by 10 T the trapped one stands out
+board_rows, board_radius = ev.attrs["board_rows"], ev.attrs["board_radius"]
+near = [("gap", f"gap drop\n(r = {board_radius:g}, {board_rows} rows)")]
+near += [(k, f"bounded board,\n{int(ev.rows.sel(case=k))} rows") for k in cases_of("rows", "board")
+         if int(ev.rows.sel(case=k)) == 2 * board_rows]
+near += [(k, f"bounded board,\nr = {float(ev.radius.sel(case=k)):g}") for k in cases_of("radius", "board")
+         if abs(not_arrived(k, "no-slip", T)[0] - not_arrived("gap", "no-slip", T)[0]) < 0.1]
+by_t_and_10t(readings, np.arange(len(near)), [k for k, _ in near], connect=False, marker="s", markersize=4)
+readings.set_xticks(np.arange(len(near)), [name for _, name in near], fontsize=6.5)
+readings.set_xlim(-0.5, len(near) - 0.5)
+readings.set(ylabel="share not arrived", ylim=(-0.02, 1.0), title=f"(f) alike by T, apart by {factor:g} T")
+readings.legend(fontsize=6.5, loc="upper right")
 fig.suptitle(f"no-slip γ = {float(ev.gamma.sel(law='no-slip')):.3g}; {ev.attrs['n_particles']:,} particles per case "
              f"and law; T = {T:g}", fontsize=8)
 plot.save_figure(fig, snakemake.output.pdf)  # writes the .pdf and the .png beside it

@@ -3,7 +3,9 @@
 Cases (all to time_factor x T, both laws): ``board`` (the config's board and release), ``gap``
 (the unbounded lattice, one drop point in the gap between two pegs: the reading before the bounded
 board) and ``gap-bounded`` (that drop on the bounded board: its top row's gap); the bounded board
-with another release point, spread or speed; both drops with another peg radius or number of rows.
+with another release point, spread or speed; both drops with another peg radius or number of rows;
+the bounded board between side walls at x = +-width (``board-width-<w>``, walls of the pegs' law, and
+``board-width-<w>-specular-walls``).
 """
 import sys
 
@@ -27,6 +29,9 @@ for key, values in (("radius", run["radii"]), ("rows", run["rows"])):
     for value in values:
         cases.append({"name": f"board-{key}-{value:g}", "group": key, key: value})
         cases.append({"name": f"gap-{key}-{value:g}", "group": key, key: value, **gap})
+cases += [{"name": f"board-width-{w:g}", "group": "width", "width": w} for w in run["widths"]]
+cases += [{"name": f"board-width-{w:g}-specular-walls", "group": "width", "width": w, "wall_law": "specular"}
+          for w in run["specular_walls"]]
 with ensemble_options(snakemake.config.get("runtime"), snakemake.threads, name=snakemake.rule,
                       params={"board": snakemake.params.board, "run": run}) as how:
     ds = galton_evidence(cases, run["n_particles"], laws=("specular", "no-slip"), gamma=run["gamma"],

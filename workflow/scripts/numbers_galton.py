@@ -7,7 +7,7 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np
 import xarray as xr
 
-from noslipsim.analysis import arrival_curve, excess_kurtosis
+from noslipsim.analysis import arrival_curve, excess_kurtosis, tail_share
 from noslipsim.plot.numbers import significant
 
 dist = xr.load_dataset(snakemake.input.distribution)
@@ -60,16 +60,59 @@ for law in ("specular", "no-slip"):
     numbers[f"kurtosis_terminal_{law.replace('-', '')}"] = dict(
         description=f"{law} excess kurtosis of the terminal horizontal displacement (0 for a normal law)",
         value=significant(k, STATISTIC), stderr=significant(ke, ERROR), format=".2f", paper="apparently Gaussian")
+SPAN, ARRIVED_CLAIM = 4.5, 0.95  # Figure 3: the top panels' half-width in sigma; boards claimed in its rows panels
 for law in ("specular", "no-slip"):
-    values = []
+    x = arrived_x(law)
+    p, e, normal = tail_share(x)
+    numbers[f"tail_share_terminal_{law.replace('-', '')}"] = dict(
+        description=f"{law} share of the arrived terminal displacements beyond 3 standard deviations from the mean "
+                    f"(normal law: {normal:.2%})",
+        value=significant(p, SHARE), stderr=significant(e, ERROR), format=".2%", paper="apparently Gaussian",
+        note="noslipsim.analysis.tail_share: a count, not set by the farthest few as the kurtosis is")
+    numbers[f"beyond_histogram_{law.replace('-', '')}"] = dict(
+        description=f"{law} arrived particles beyond ±{SPAN:g} standard deviations from the mean (counted in Figure "
+                    "3's top panels, whose axes reach as far for the wider law; its tails panel draws every particle)",
+        value=int(np.sum(np.abs(x - x.mean()) > SPAN * x.std(ddof=1))), format="d")
+for law in ("specular", "no-slip"):
+    kurtoses, shares, arrived = [], [], []
     for c in range(rows.sizes["case"]):
+        r = int(rows.rows.values[c])
         x = rows.x_terminal.isel(case=c).sel(law=law).values
-        k, ke = excess_kurtosis(x[np.isfinite(x)])
-        values.append(f"{int(rows.rows.values[c])}: {k:.2f} ± {ke:.2f}")
-    numbers[f"kurtosis_against_rows_{law.replace('-', '')}"] = dict(
+        x = x[np.isfinite(x)]
+        k, ke = excess_kurtosis(x)
+        p, e, _ = tail_share(x)
+        kurtoses.append(f"{r}: {k:.2f} ± {ke:.2f}")
+        shares.append(f"{r}: {p:.2%} ± {e:.2%}")
+        arrived.append(f"{r}: {x.size / rows.sizes['particle']:.0%} by {float(rows.max_time.values[c]):.0f}")
+    name = law.replace("-", "")
+    note = (f"{rows.attrs['n_particles']:,} particles per number of rows, the arrived ones; boards where fewer than "
+            f"{ARRIVED_CLAIM:.0%} arrived are not claimed (arrived_against_rows_{name})")
+    numbers[f"kurtosis_against_rows_{name}"] = dict(
         description=f"{law} excess kurtosis of the terminal displacement against the number of rows (Figure 3)",
-        value=", ".join(values), paper="apparently Gaussian",
-        note=f"{rows.attrs['n_particles']:,} particles per number of rows, arrived by T; bootstrap errors")
+        value=", ".join(kurtoses), paper="apparently Gaussian", note=note + "; bootstrap errors")
+    numbers[f"tail_share_against_rows_{name}"] = dict(
+        description=f"{law} share of the terminal displacements beyond 3 standard deviations against the number "
+                    f"of rows (Figure 3; normal law: {tail_share([0, 1])[2]:.2%})",
+        value=", ".join(shares), paper="apparently Gaussian", note=note + "; binomial errors")
+    numbers[f"arrived_against_rows_{name}"] = dict(
+        description=f"{law} share arrived against the number of rows, and the time each board ran to (deeper "
+                    "boards run longer, galton.rows_sweep.time_exponent)",
+        value=", ".join(arrived))
+    # the deepest board alone, as numbers the prose can quote: where the tails stand after the most rows
+    x = rows.x_terminal.isel(case=-1).sel(law=law).values
+    arrived_share = float(np.isfinite(x).mean())
+    x = x[np.isfinite(x)]
+    deepest = int(rows.rows.values[-1])
+    k, ke = excess_kurtosis(x)
+    p, e, normal = tail_share(x)
+    numbers[f"kurtosis_deepest_{name}"] = dict(
+        description=f"{law} excess kurtosis of the terminal displacement on the deepest board ({deepest} rows, "
+                    f"{arrived_share:.1%} arrived by {float(rows.max_time.values[-1]):.0f})",
+        value=significant(k, STATISTIC), stderr=significant(ke, ERROR), format=".2f", paper="apparently Gaussian")
+    numbers[f"tail_share_deepest_{name}"] = dict(
+        description=f"{law} share beyond 3 standard deviations on the deepest board ({deepest} rows; normal law: "
+                    f"{normal:.2%})",
+        value=significant(p, SHARE), stderr=significant(e, ERROR), format=".2%", paper="apparently Gaussian")
 factor, m = long_run.attrs["time_factor"], long_run.attrs["n_particles"]
 for law, g in (("no-slip", gamma), ("specular", None)):
     p, e = share(long_run, law, g)

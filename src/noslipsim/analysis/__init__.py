@@ -4,7 +4,7 @@ Above :mod:`noslipsim.simulate` and :mod:`noslipsim.ensemble`, below
 :mod:`noslipsim.experiments`.  Coordinates and derivations: docs/analysis.md.
 """
 from .attractors import attractor_census, attractor_labels, orbit_period, portrait_attractors
-from .galton import arrival_curve, excess_kurtosis
+from .galton import arrival_curve, excess_kurtosis, tail_share
 from .islands import (
     classify_regular,
     finite_time_lyapunov,
@@ -38,6 +38,6 @@ __all__ = [
     "classify_regular", "elliptic_boundary", "excess_kurtosis", "find_periodic_orbit", "finite_time_lyapunov",
     "head_on_onset_gamma", "interior_starts", "islands_onsets", "lyapunov", "monodromy", "onset_gamma",
     "orbit_period", "portrait_attractors", "reduced_portrait", "reduced_states", "regular_share", "stability_grid",
-    "stability_grid_theta", "threshold_sensitivity", "twin_lyapunov", "two_disk_classes", "two_disk_orbit",
-    "uniform_reduced_states", "velocity_portrait", "wedge_noforce_orbit", "wedge_orbit",
+    "stability_grid_theta", "tail_share", "threshold_sensitivity", "twin_lyapunov", "two_disk_classes",
+    "two_disk_orbit", "uniform_reduced_states", "velocity_portrait", "wedge_noforce_orbit", "wedge_orbit",
 ]

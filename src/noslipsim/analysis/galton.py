@@ -27,7 +27,7 @@ import xarray as xr
 from .._metadata import annotate
 from .._validate import finite_float, positive
 
-__all__ = ["arrival_curve", "excess_kurtosis"]
+__all__ = ["arrival_curve", "excess_kurtosis", "tail_share"]
 
 #: Default number of points of the log-spaced time grid.
 N_TIMES = 100
@@ -302,3 +302,45 @@ def excess_kurtosis(values, *, resamples=KURTOSIS_RESAMPLES, seed=0):
     rng = np.random.default_rng(seed)
     boot = np.array([kappa(x[rng.integers(0, x.size, x.size)]) for _ in range(int(resamples))])
     return float(kappa(x)), float(np.std(boot[np.isfinite(boot)], ddof=1))
+
+
+#: The robust tail statistic's threshold, in standard deviations.
+TAIL_SIGMAS = 3.0
+
+
+def tail_share(values, *, sigmas=TAIL_SIGMAS):
+    r"""Share of a sample beyond ``sigmas`` standard deviations from its mean, against the normal law's.
+
+    .. math::
+
+        p = \frac{1}{n} \#\{i : |x_i - \bar x| > k s\}, \qquad
+        p_\mathrm{normal} = \operatorname{erfc}(k / \sqrt 2),
+
+    with ``s`` the sample standard deviation (``ddof=1``) and ``k = sigmas``
+    (``p_normal = 0.27 %`` at ``k = 3``).  Unlike the excess kurtosis, which a
+    handful of far particles sets (its fourth moment), ``p`` counts particles:
+    its standard error is the binomial ``sqrt(p (1 - p) / n)``, so a
+    heavy-tailed sample (``p > p_normal``) is told from a normal one by counts
+    that do not hinge on the farthest few.
+
+    Parameters
+    ----------
+    values : array_like
+        The sample (finite numbers, at least 2 that are not all equal).
+    sigmas : float
+        The threshold ``k`` (> 0), in sample standard deviations.
+
+    Returns
+    -------
+    (float, float, float)
+        ``p``, its binomial standard error, and ``p_normal``.
+    """
+    x = np.asarray(values, dtype=float).ravel()
+    if x.size < 2 or not np.all(np.isfinite(x)):
+        raise ValueError(f"values: expected at least 2 finite numbers, got {x.size} values "
+                         f"({int((~np.isfinite(x)).sum())} not finite)")
+    k = positive(sigmas, "sigmas")
+    if not np.ptp(x) > 0:
+        raise ValueError("values: all equal, the standard deviation is 0")
+    p = float(np.mean(np.abs(x - x.mean()) > k * x.std(ddof=1)))
+    return p, math.sqrt(p * (1.0 - p) / x.size), math.erfc(k / math.sqrt(2.0))

@@ -47,7 +47,8 @@ def galton_cases(laws, gamma):
 def galton_distribution(n_particles=100_000, *, laws=("specular", "no-slip"), gamma=1 / math.sqrt(2),
                         spacing=2.0, radius=0.5, gravity=1.0, rows=100, max_time=1000.0,
                         start=(1.0, 0.0), max_collisions=10**7, seed=0, top_row=None, spread=0.0, speed=1.0,
-                        chunk_size=None, scheduler=None, progress=None, num_workers=None, out=None):
+                        width=None, wall_law=None, chunk_size=None, scheduler=None, progress=None, num_workers=None,
+                        out=None):
     r"""Terminal horizontal positions and arrival times on a Galton board (paper, introduction and Figure 3).
 
     Two boards.  **Unbounded** (``top_row=None``, the paper's drop as read
@@ -61,7 +62,11 @@ def galton_distribution(n_particles=100_000, *, laws=("specular", "no-slip"), ga
     **Bounded** (``top_row=0``): row 0 (pegs at height 0) is the top row, with
     nothing above it (``Scene.top``), particles are released above it at
     ``start`` and fall onto it, and the terminal depth is ``rows`` rows below
-    the top row, ``y = -rows spacing sqrt(3)/2``.
+    the top row, ``y = -rows spacing sqrt(3)/2``.  **Walled** (``top_row=0``
+    and a ``width``): the bounded board cut to its pegs between two side walls
+    at ``x = +-width`` (:func:`noslipsim.tables.walled_galton_board`), as a
+    Galton board is built; the unbounded lattice lets a particle wander
+    sideways along the top row without end.
 
     Release: each particle starts at ``start`` plus an offset uniform in the
     square ``[-spread, spread]^2`` (``spread = 0``: all at ``start``), with
@@ -100,6 +105,11 @@ def galton_distribution(n_particles=100_000, *, laws=("specular", "no-slip"), ga
         Half-width (>= 0) of the square of release points around ``start``.
     speed : float
         Release speed (>= 0; 0 drops every particle from rest).
+    width : float or None
+        ``None``: no side walls; a number: the walled board, walls at
+        ``x = +-width`` (needs ``top_row``).
+    wall_law : {None, 'no-slip', 'specular'}
+        The walls' own collision law (``None``: the case's law, as the pegs).
     chunk_size, scheduler, progress, num_workers
         Passed to :func:`noslipsim.simulate_many`.
     out : str or path-like, optional
@@ -147,10 +157,12 @@ def galton_distribution(n_particles=100_000, *, laws=("specular", "no-slip"), ga
         vel = initial.UnitVelocities(n_particles, seed)
         pos = np.broadcast_to(np.asarray(start, float), (n_particles, 2))
     spins = np.broadcast_to(0.0, (n_particles,))
+    if width is not None and top_row is None:
+        raise ValueError("width: side walls need a top row (top_row=0): the unbounded lattice has no walled form")
     parts = []
     for law, g in cases:
-        scene = tables.galton_board(spacing, radius, gravity, law=law, gamma=0.0 if law == "specular" else g,
-                                    top_row=top_row)
+        scene = _board(spacing, radius, gravity, law=law, gamma=0.0 if law == "specular" else g, top_row=top_row,
+                       rows=rows, width=width, wall_law=wall_law)
         folder = None if out is None else os.path.join(os.fspath(out), law if law == "specular" else f"{law}-{g!r}")
         ds = simulate_many(scene, pos, vel, spins, max_collisions=max_collisions,
                            max_time=max_time, stop_below=level, record="final", chunk_size=chunk_size,
@@ -173,8 +185,20 @@ def galton_distribution(n_particles=100_000, *, laws=("specular", "no-slip"), ga
                      gravity=gravity, rows=rows, terminal_depth=depth, terminal_level=level, max_time=max_time,
                      start=list(start), seed=seed, n_particles=n_particles, max_collisions=max_collisions,
                      board="unbounded" if top_row is None else "bounded",
-                     top_row=-1 if top_row is None else int(top_row), spread=spread, speed=speed)
+                     top_row=-1 if top_row is None else int(top_row), spread=spread, speed=speed,
+                     width=math.inf if width is None else float(width),
+                     wall_law="none" if width is None else (wall_law or "pegs"))
     return annotate(res)
+
+
+def _board(spacing, radius, gravity, *, law, gamma, top_row, rows, width, wall_law):
+    """The lattice board (``width=None``) or the walled one, ``rows`` rows below ``top_row``."""
+    if width is None:
+        if wall_law is not None:
+            raise ValueError("wall_law: a board without side walls (width=None) has no wall law")
+        return tables.galton_board(spacing, radius, gravity, law=law, gamma=gamma, top_row=top_row)
+    return tables.walled_galton_board(spacing, radius, gravity, rows=rows, width=width, top_row=top_row, law=law,
+                                      gamma=gamma, wall_law=wall_law)
 
 
 def galton_radius_sweep(n_particles=2000, *, radii=(0.85, 0.9, 0.95), laws=("specular", "no-slip"),
@@ -243,7 +267,7 @@ def galton_orbits(gammas=(0.0, 1 / math.sqrt(2), 3.0), *, velocity=(0.6, 0.8), s
 
 
 #: The release and board settings a case of :func:`galton_evidence` may change.
-EVIDENCE_KEYS = ("top_row", "start", "spread", "speed", "radius", "rows")
+EVIDENCE_KEYS = ("top_row", "start", "spread", "speed", "radius", "rows", "width", "wall_law", "max_time")
 
 
 def galton_evidence(cases, n_particles=1000, *, laws=("no-slip",), gamma=1 / math.sqrt(2), seed=0,
@@ -254,14 +278,17 @@ def galton_evidence(cases, n_particles=1000, *, laws=("no-slip",), gamma=1 / mat
     same run repeated with one setting changed at a time, so that its
     dependence on the drop (the unbounded lattice's gap, or the bounded
     board's release above its top row), the release point, spread and speed,
-    the peg radius and the number of rows can be read side by side.
+    the peg radius, the number of rows and the side walls can be read side by
+    side.
 
     Parameters
     ----------
     cases : sequence of dict
         One mapping per case: ``name`` (unique), ``group`` (what the case
         varies, a label), and any of ``top_row, start, spread, speed, radius,
-        rows`` (:func:`galton_distribution`), which override ``board``.
+        rows, width, wall_law, max_time`` (:func:`galton_distribution`), which override
+        ``board`` (``max_time``: the case's own time limit, e.g. one that
+        grows with its rows).
     n_particles : int
         Particles per case and law.
     laws, gamma, seed, max_time
@@ -282,7 +309,9 @@ def galton_evidence(cases, n_particles=1000, *, laws=("no-slip",), gamma=1 / mat
         and ``share_not_arrived`` (by ``max_time``); per case
         the coordinates ``group``, ``board`` (``'bounded'`` or
         ``'unbounded'``), ``start_x``, ``start_y``, ``spread``, ``speed``,
-        ``radius`` and ``rows``.
+        ``radius``, ``rows``, ``width`` (``inf``: no side walls), ``wall_law``
+        (``'none'``, ``'pegs'``: the pegs' law, or a law name) and
+        ``max_time``; the attribute ``max_time`` is the longest case's.
     """
     if not cases:
         raise ValueError("cases: expected at least one case")
@@ -295,17 +324,19 @@ def galton_evidence(cases, n_particles=1000, *, laws=("no-slip",), gamma=1 / mat
         if unknown:
             raise ValueError(f"cases[{case['name']!r}]: unknown keys {sorted(unknown)}; expected name, group "
                              f"and any of {EVIDENCE_KEYS}")
-        settings = {**board, **{k: v for k, v in case.items() if k in EVIDENCE_KEYS}}
-        ds = galton_distribution(n_particles, laws=laws, gamma=gamma, seed=seed, max_time=max_time, **settings)
+        settings = {"max_time": max_time, **board, **{k: v for k, v in case.items() if k in EVIDENCE_KEYS}}
+        ds = galton_distribution(n_particles, laws=laws, gamma=gamma, seed=seed, **settings)
         parts.append(ds[["t_terminal", "x_terminal", "x_end", "y_end", "n_collisions", "share_not_arrived"]])
         a = ds.attrs
         rows_of.append(dict(group=str(case.get("group", "")), board=a["board"], start_x=a["start"][0],
                             start_y=a["start"][1], spread=a["spread"], speed=a["speed"], radius=a["radius"],
-                            rows=a["rows"]))
+                            rows=a["rows"], width=a["width"], wall_law=a["wall_law"], max_time=a["max_time"]))
     res = xr.concat(parts, dim=xr.DataArray(names, dims="case", name="case"), combine_attrs="drop")
     for key in rows_of[0]:
         res = res.assign_coords({key: ("case", [r[key] for r in rows_of])})
-    res.attrs.update(title="Galton board: not-arrived share against board and release", max_time=max_time,
+    # the longest case's limit: no arrival time of any case lies past it (arrival_curve checks)
+    res.attrs.update(title="Galton board: not-arrived share against board and release",
+                     max_time=max(r["max_time"] for r in rows_of),
                      n_particles=n_particles, seed=seed, spacing=board.get("spacing", 2.0),
                      gravity=board.get("gravity", 1.0),
                      termination_time=max_time if termination_time is None else termination_time)
