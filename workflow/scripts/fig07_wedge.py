@@ -25,7 +25,7 @@ panels = [(title, rows) for title, rows in panels if rows.size]
 def describe(o):
     ev = o.eigenvalue_real.values + 1j * o.eigenvalue_imag.values
     rot = np.abs(np.angle(ev)).max()
-    text = f"{o.linear_kind.values}, eigenvalues 1, $e^{{\\pm {rot:.3f} i}}$" if o.linear_kind == "elliptic" \
+    text = f"{o.linear_kind.values},\neigenvalues 1, $e^{{\\pm {rot:.3f} i}}$" if o.linear_kind == "elliptic" \
         else f"{o.linear_kind.values}, $|\\lambda| = {np.abs(ev).max():.3g}$"
     if not int(o.path_reversing):
         text += f"\n$\\max|v_t - \\gamma w|/|V| = {float(o.reversal_mismatch):.2f}$"

@@ -59,7 +59,9 @@ if same:
     a.text(0.03, 0.58, "gap drop on the bounded board:\nthe same arrival times", transform=a.transAxes,
            ha="left", va="top", fontsize=6.5, color="0.3")
 a.set(xscale="log", yscale="log", xlabel="time", ylabel="share not arrived", title="(a) the drop")
-a.legend(fontsize=6.5, loc="lower left")
+a.legend(fontsize=6.5, loc="best")  # clear of the curves wherever this run's arrivals put them
+if plot.legend_problems(a):  # no free corner inside: beneath the axes, where nothing is drawn
+    a.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.22), ncol=2)
 
 # (b) the bounded board's release: point, spread, speed (no-slip)
 groups = [("point", lambda k: f"({float(k.start_x):g}, {float(k.start_y):g})"),
@@ -108,6 +110,8 @@ for ax, group, xlabel, title in ((c, "radius", f"peg radius (spacing {ev.attrs['
         ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.set_xticks(sorted({float(v) for v in ev.rows.values}), [f"{int(v)}" for v in sorted(set(ev.rows.values))])
 c.legend(fontsize=5.5, loc="upper left")
+d.text(0.97, 0.97, "markers and lines as in (c)", transform=d.transAxes, ha="right", va="top", fontsize=6,
+       color="0.3")
 
 
 def by_t_and_10t(ax, xs, cases, connect=True, **style):
