@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from noslipsim import simulate
+from noslipsim._metadata import entry
 from noslipsim.analysis import orbit_period
 from noslipsim.experiments import invariant_regions, region_counts
 from noslipsim.experiments.invariant import OUTCOMES, reversing_orbit, start_outcomes
@@ -38,12 +39,16 @@ def test_a_start_on_the_orbit_stays_periodic_and_its_neighbours_stay(small):
     for case in (ff.sel(branch="low"), iso.sel(branch="apex")):
         assert (case.start_outcome.values == OUTCOMES.index("invariant")).all()
         assert float(case.region_radius) == pytest.approx(2 * 0.02)
+        # they stay near the orbit, the farther out the farther they roam (a nested region, not a drift away)
+        far = case.tail_distance.max("start").values
+        assert np.isfinite(far).all() and far[0] < far[1] < 0.2
 
 
 def test_the_hyperbolic_branch_and_far_starts_escape(small):
     high = small.sel(flight="free fall", force=0.5, branch="high")
     assert str(high.linear_kind.item()) == "hyperbolic"
     assert (high.start_outcome.values == OUTCOMES.index("escaped")).all() and float(high.region_radius) == 0
+    assert np.isnan(high.tail_distance.values).all()
     far = invariant_regions([0.5], 0.8, 0.3, GAMMA, ring_step=1.2, flights=["free fall"], **SMALL)
     low = far.sel(flight="free fall", branch="low").squeeze()
     assert (low.start_outcome.values == OUTCOMES.index("escaped")).all()
@@ -76,6 +81,12 @@ def test_counts_add_up(small):
     area = small.region_area.values
     np.testing.assert_allclose(area[np.isfinite(area)], math.pi * small.region_radius.values[np.isfinite(area)] ** 2)
     assert (small.share_area.values[small.exists.values == 1] >= area[small.exists.values == 1] - 1e-15).all()
+
+
+def test_every_variable_is_described(small):
+    for name, var in small.variables.items():
+        assert entry(name) is not None, f"{name}: not in noslipsim._metadata.VARIABLES"
+        assert var.attrs["long_name"] == entry(name)[0]
 
 
 @pytest.mark.parametrize("kwargs, match", [

@@ -32,7 +32,6 @@ area ``pi r^2`` in the ``(a, b)`` plane.
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
@@ -90,8 +89,7 @@ def _first_hit(scene, y0):
 
 def _isokinetic_orbit(radius, phi, gamma, gravity):
     """The apex ``y0`` whose thermostatted flight meets ``q1``, spin ``v_t / gamma`` there; ``None`` if none."""
-    base = tables.two_disks(radius, distance=2.0, gamma=gamma, force=(0.0, -gravity))
-    scene = dataclasses.replace(base, thermostat="isokinetic")
+    scene = tables.two_disks(radius, distance=2.0, gamma=gamma, force=(0.0, -gravity)).replace(thermostat="isokinetic")
     q1, _ = _geometry(radius, phi)
     target = math.pi - phi
     heights = q1[1] + np.linspace(1e-6, APEX_SPAN, 31)
@@ -163,24 +161,47 @@ def start_outcomes(n_collisions, max_collisions, periods):
     return np.where(n < max_collisions, 2, np.where(p > 0, 1, 0)).astype(np.int8)
 
 
-def _tail_periods(scene, runs, tail, scheduler, num_workers):
-    """Continue each survivor ``tail`` collisions from its final impact, recording ``(s, v_t, w)``: its period."""
+#: A recorded collision state: which disk, arclength, and the unit ``(v_t, w)`` (the element is a
+#: coordinate too, since ``s`` alone does not say which disk).
+STATE_KEYS = ("element", "s", "vt_unit", "w_unit")
+
+
+def _portrait_states(scene, pos, vel, spin, collisions, element, scheduler, num_workers):
+    """``(orbit, point, 4)`` collision states (``STATE_KEYS``) of ``collisions`` collisions from each start."""
+    rec = simulate_many(scene, pos, vel, spin, max_collisions=collisions, record="portrait", start_elements=element,
+                        scheduler=scheduler, num_workers=num_workers, progress=False)
+    return np.stack([rec[k].values for k in STATE_KEYS], axis=-1)
+
+
+def _distance_to(states, reference, length):
+    """Largest, over the recorded states, max-norm distance to the reference state on the same disk."""
+    d = np.abs(states[:, None, 1:] - reference[None, :, 1:])
+    d[..., 0] = np.minimum(d[..., 0], length - d[..., 0])        # s on a circle
+    d = np.where(states[:, None, 0] == reference[None, :, 0], d.max(axis=-1), np.inf)
+    return float(np.nanmax(d.min(axis=1)))
+
+
+def _tails(scene, runs, reference, tail, scheduler, num_workers):
+    """Continue each survivor ``tail`` collisions from its final impact: its period and its distance from the orbit.
+
+    ``reference`` holds the orbit's own two collision states; a survivor far
+    from them stays in some other region, which the distance tells.
+    """
     alive = np.flatnonzero(runs.stop_reason.values == 0)
     periods = np.zeros(runs.sizes["orbit"], dtype=np.int64)
+    distance = np.full(runs.sizes["orbit"], np.nan)
     if alive.size == 0:
-        return periods
+        return periods, distance
     pick = runs.isel(orbit=alive)
     pos = np.c_[pick.x_final.values, pick.y_final.values]
-    vel = np.c_[pick.vx_final.values, pick.vy_final.values]
     element = (pos[:, 0] > 0).astype(np.int64)   # the right disk is element 1
-    rec = simulate_many(scene, pos, vel, pick.spin_final.values, max_collisions=tail, record="portrait",
-                        start_elements=element, scheduler=scheduler, num_workers=num_workers, progress=False)
-    # the element is a coordinate too: s alone does not say which disk
-    states = np.stack([rec[k].values for k in ("element", "s", "vt_unit", "w_unit")], axis=-1)
+    states = _portrait_states(scene, pos, np.c_[pick.vx_final.values, pick.vy_final.values],
+                              pick.spin_final.values, tail, element, scheduler, num_workers)
     length = 2 * math.pi * scene.elements[0].radius
     for i, x in zip(alive, states):
         periods[i] = orbit_period(x, wrap=(None, length, None, None))
-    return periods
+        distance[i] = _distance_to(x[np.isfinite(x).all(axis=1)], reference, length)
+    return periods, distance
 
 
 def _linear_kind(scene, state, flight):
@@ -200,10 +221,11 @@ def _one_orbit(found, flight, p, scheduler, num_workers):
     spin = np.r_[state["spin"], spin]
     runs = simulate_many(scene, pos, vel, spin, max_collisions=max_collisions, record="final",
                          scheduler=scheduler, num_workers=num_workers, progress=False)
-    periods = _tail_periods(scene, runs, p["tail"], scheduler, num_workers)
+    reference = _portrait_states(scene, pos[:1], vel[:1], spin[:1], 2, None, "sync", None)[0]
+    periods, distance = _tails(scene, runs, reference, p["tail"], scheduler, num_workers)
     outcome = start_outcomes(runs.n_collisions.values, max_collisions, periods)
-    return (outcome[1:].reshape(rings, starts), runs.n_collisions.values[1:].reshape(rings, starts),
-            periods[1:].reshape(rings, starts), int(periods[0]), _linear_kind(scene, state, flight))
+    per_start = [x[1:].reshape(rings, starts) for x in (outcome, runs.n_collisions.values, periods, distance)]
+    return (*per_start, int(periods[0]), _linear_kind(scene, state, flight))
 
 
 def _region_radius(outcome, ring_step):
@@ -271,7 +293,8 @@ def invariant_regions(forces, radius=0.8, phi=0.3, gamma=1 / math.sqrt(2), *, ri
     xarray.Dataset
         On ``(flight, force, branch, ring, start)``: ``start_outcome`` (index
         into ``OUTCOMES``, the ``outcome`` axis; -1 where there is no orbit),
-        ``n_collisions``, ``period``; on ``(flight, force, branch)``:
+        ``n_collisions``, ``period``, ``tail_distance`` (survivors: how far
+        their tail strays from the orbit's own states); on ``(flight, force, branch)``:
         ``exists``, ``orbit_period``, ``linear_kind``, ``region_radius``,
         ``region_area`` and ``share_area`` (each ring's share of staying
         starts times its annulus); on ``(flight, force, branch, ring, outcome)``: ``starts_by_outcome``.
@@ -286,7 +309,8 @@ def invariant_regions(forces, radius=0.8, phi=0.3, gamma=1 / math.sqrt(2), *, ri
     shape = (len(p["flights"]), p["forces"].size, len(BRANCH_AXIS))
     per_start = (*shape, p["rings"], p["starts"])
     arr = dict(start_outcome=np.full(per_start, -1, dtype=np.int8), n_collisions=np.zeros(per_start, dtype=np.int64),
-               period=np.zeros(per_start, dtype=np.int64), exists=np.zeros(shape, np.int8),
+               period=np.zeros(per_start, dtype=np.int64), tail_distance=np.full(per_start, np.nan),
+               exists=np.zeros(shape, np.int8),
                orbit_period=np.zeros(shape, np.int64), linear_kind=np.full(shape, "", dtype="<U10"))
     for i, flight in enumerate(p["flights"]):
         for j, g in enumerate(p["forces"]):
@@ -297,7 +321,8 @@ def invariant_regions(forces, radius=0.8, phi=0.3, gamma=1 / math.sqrt(2), *, ri
                     continue
                 arr["exists"][idx] = 1
                 out = _one_orbit(found, flight, p, scheduler, num_workers)
-                for key, value in zip(("start_outcome", "n_collisions", "period", "orbit_period", "linear_kind"), out):
+                for key, value in zip(("start_outcome", "n_collisions", "period", "tail_distance", "orbit_period",
+                                             "linear_kind"), out):
                     arr[key][idx] = value
     return _regions_dataset(arr, p)
 
@@ -321,7 +346,7 @@ def _regions_dataset(arr, p):
     full = (*dims, "ring", "start")
     ring = np.arange(1, p["rings"] + 1)
     ds = xr.Dataset(
-        {**{k: (full, arr[k]) for k in ("start_outcome", "n_collisions", "period")},
+        {**{k: (full, arr[k]) for k in ("start_outcome", "n_collisions", "period", "tail_distance")},
          **{k: (dims, arr[k]) for k in ("exists", "orbit_period", "linear_kind")},
          "region_radius": (dims, radius_of), "region_area": (dims, math.pi * radius_of ** 2),
          "share_area": (dims, np.where(exists, share_area, np.nan)),
