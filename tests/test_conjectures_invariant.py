@@ -80,7 +80,7 @@ def test_counts_add_up(small):
     assert (small.start_outcome.where(small.exists == 0).fillna(-1).values[small.exists.values == 0] == -1).all()
     area = small.region_area.values
     np.testing.assert_allclose(area[np.isfinite(area)], math.pi * small.region_radius.values[np.isfinite(area)] ** 2)
-    assert (small.share_area.values[small.exists.values == 1] >= area[small.exists.values == 1] - 1e-15).all()
+    assert (small.staying_area.values[small.exists.values == 1] >= area[small.exists.values == 1] - 1e-15).all()
 
 
 def test_every_variable_is_described(small):

@@ -272,7 +272,7 @@ VARIABLES = {
     "orbit_period": ("period of the unperturbed orbit's last collisions (2: it stayed on its cycle; 0: none)", "1"),
     "region_radius": ("largest ring radius out to which every start neither escapes nor converges", "1"),
     "region_area": ("pi region_radius^2, in the (turn angle, spin / speed) plane", "1"),
-    "share_area": ("sum over rings of the share of starts that stay times the ring's annulus", "1"),
+    "staying_area": ("sum over rings of the share of starts that stay times the ring's annulus", "1"),
     "starts_by_outcome": ("starts of the ring by outcome", "1"),
 }
 

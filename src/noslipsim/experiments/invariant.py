@@ -296,7 +296,7 @@ def invariant_regions(forces, radius=0.8, phi=0.3, gamma=1 / math.sqrt(2), *, ri
         ``n_collisions``, ``period``, ``tail_distance`` (survivors: how far
         their tail strays from the orbit's own states); on ``(flight, force, branch)``:
         ``exists``, ``orbit_period``, ``linear_kind``, ``region_radius``,
-        ``region_area`` and ``share_area`` (each ring's share of staying
+        ``region_area`` and ``staying_area`` (each ring's share of staying
         starts times its annulus); on ``(flight, force, branch, ring, outcome)``: ``starts_by_outcome``.
 
     Raises
@@ -341,7 +341,7 @@ def _regions_dataset(arr, p):
     for idx in zip(*np.nonzero(exists)):
         radius_of[idx] = _region_radius(outcome[idx], ring_step)
     by_outcome = np.stack([(outcome == o).sum(axis=-1) for o in range(len(OUTCOMES))], axis=-1)
-    share_area = (by_outcome[..., 0] / p["starts"]) @ _annuli(p["rings"], ring_step)
+    staying_area = (by_outcome[..., 0] / p["starts"]) @ _annuli(p["rings"], ring_step)
     dims = ("flight", "force", "branch")
     full = (*dims, "ring", "start")
     ring = np.arange(1, p["rings"] + 1)
@@ -349,7 +349,7 @@ def _regions_dataset(arr, p):
         {**{k: (full, arr[k]) for k in ("start_outcome", "n_collisions", "period", "tail_distance")},
          **{k: (dims, arr[k]) for k in ("exists", "orbit_period", "linear_kind")},
          "region_radius": (dims, radius_of), "region_area": (dims, math.pi * radius_of ** 2),
-         "share_area": (dims, np.where(exists, share_area, np.nan)),
+         "staying_area": (dims, np.where(exists, staying_area, np.nan)),
          "starts_by_outcome": ((*dims, "ring", "outcome"), by_outcome.astype(np.int64))},
         coords={"flight": p["flights"], "force": p["forces"], "branch": list(BRANCH_AXIS), "ring": ring,
                 "ring_radius": ("ring", ring * ring_step), "start": np.arange(p["starts"]),
