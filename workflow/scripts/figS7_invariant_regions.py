@@ -40,7 +40,7 @@ area.set(xscale="log", xlabel="force g (unit speed)", ylabel="region area (rad Ã
          title="every start stays")
 area.set_xticks(g, [f"{x:g}" for x in g])
 area.xaxis.set_minor_formatter(NullFormatter())
-area.legend(fontsize=5.5, loc="upper right")
+fig.legend(*area.get_legend_handles_labels(), fontsize=6.5, loc="outside upper center", ncol=len(CASES))
 
 staying = ds.starts_by_outcome.sel(outcome="invariant") / ds.sizes["start"]
 for flight, branch in CASES:
@@ -61,6 +61,8 @@ for outcome in OUTCOMES:
 bars.set_yticks(np.arange(len(rows)), [f"{'ff' if f == 'free fall' else 'iso'} {b} g={x:g}" for f, b, x in rows],
                fontsize=5.5)
 bars.invert_yaxis()
-bars.set(xlabel="starts", title=f"{int(left.sum())} starts, {ds.attrs['max_collisions']:,} collisions")
+bars.set(xlabel="starts")
+bars.set_title(f"{int(left.sum())} starts, {ds.attrs['max_collisions']:,} collisions", fontsize=8)
 bars.legend(fontsize=5.5, loc="lower right")
+plot.check_legend(bars)
 plot.save_figure(fig, snakemake.output.pdf)

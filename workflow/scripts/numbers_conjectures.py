@@ -220,6 +220,14 @@ if "isokinetic" in invariant.flight.values:
         description="isokinetic thermostat: region radius (every start stays) at the largest force",
         value=significant(float(radius[-1]), BOUNDARY), format=".2f",
         note="g: radius " + ", ".join(f"{g:g}: {r:.2f}" for g, r in zip(iso.force.values, radius)))
+    near = iso.tail_distance.isel(ring=0).max("start").values   # NaN where every ring-1 start escaped
+    if np.isfinite(near).any():
+        numbers["invariant_isokinetic_ring1_distance"] = dict(
+            description="isokinetic thermostat, at the largest force with a ring-1 survivor: how far those "
+                        "survivors' last collisions lie from the orbit's own (largest max-norm distance in element, "
+                        "s, unit v_t, unit w)",
+            value=significant(float(near[np.isfinite(near)][-1]), BOUNDARY), format=".2f",
+            note="g: distance " + ", ".join(f"{g:g}: {d:.2f}" for g, d in zip(iso.force.values, near)))
     leaves = (iso.exists == 1) & (iso.orbit_period != 2)
     numbers["invariant_isokinetic_orbit_leaves"] = dict(
         description="isokinetic thermostat: forces where the unperturbed orbit itself leaves its cycle",
