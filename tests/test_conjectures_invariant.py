@@ -7,6 +7,7 @@ import pytest
 from noslipsim import simulate
 from noslipsim._metadata import entry
 from noslipsim.analysis import orbit_period
+from noslipsim.core.layout import STOP_REASONS
 from noslipsim.experiments import invariant_regions, region_counts
 from noslipsim.experiments.invariant import OUTCOMES, reversing_orbit, start_outcomes
 
@@ -53,18 +54,21 @@ def test_the_hyperbolic_branch_and_far_starts_escape(small):
     low = far.sel(flight="free fall", branch="low").squeeze()
     assert (low.start_outcome.values == OUTCOMES.index("escaped")).all()
     assert (low.n_collisions.values < SMALL["max_collisions"]).all()
+    assert (low.stop_reason.values == STOP_REASONS.index("escape")).all()
 
 
-def test_a_converging_orbit_is_classed_attracted_and_an_escape_wins():
-    """A constructed sequence converging onto a 2-cycle has a period; an escape is an escape whatever its tail."""
+def test_a_converging_orbit_is_classed_attracted_and_an_early_stop_wins():
+    """A constructed sequence converging onto a 2-cycle has a period; an orbit that stopped early is an escape
+    (missed both disks) or a stop of another kind, whatever its tail."""
     cycle = np.array([[0.3, 0.1], [0.7, -0.2]])
     k = np.arange(80)
     converging = cycle[k % 2] + 0.5 ** k[:, None] * np.array([1.0, -1.0])
     drifting = cycle[k % 2] + 1e-3 * k[:, None]
-    periods = [orbit_period(converging), orbit_period(drifting), orbit_period(converging)]
+    periods = [orbit_period(converging), orbit_period(drifting), orbit_period(converging), orbit_period(converging)]
     assert periods[:2] == [2, 0]
-    fates = start_outcomes([100, 100, 40], 100, periods)
-    assert [OUTCOMES[f] for f in fates] == ["attracted", "invariant", "escaped"]
+    stops = [STOP_REASONS.index(r) for r in ("max_collisions", "max_collisions", "escape", "grazing")]
+    fates = start_outcomes(stops, periods)
+    assert [OUTCOMES[f] for f in fates] == ["attracted", "invariant", "escaped", "stopped"]
 
 
 def test_counts_add_up(small):

@@ -265,6 +265,8 @@ def check_conjectures_invariant(ds):
     per_orbit = ds.sizes["ring"] * ds.sizes["start"]
     assert (region_counts(ds).total.values == exists * per_orbit).all()
     assert (np.isfinite(ds.tail_distance.values) == (outcome == 0) | (outcome == 1)).all()
+    assert ((outcome == 2) == (ds.stop_reason.values == 2)).all()      # escaped: stop reason 'escape'
+    assert ((outcome >= 0) & (outcome <= 1) <= (ds.n_collisions.values == ds.attrs["max_collisions"])).all()
     radius = ds.region_radius.values[exists]
     assert ((radius >= 0) & (radius <= ds.ring_radius.values[-1] + 1e-12)).all()
 

@@ -234,7 +234,7 @@ VARIABLES = {
     "search": ("search of the periodic-orbit finder, from one random start", "1"),
     "force_angle": ("direction of the force, counter-clockwise from straight down", "rad"),
     "outcome": ("how the search ended (found, not converged, no return), the pair (found, not found, not "
-                "periodic, not minimal, unbalanced, inaccessible) or the start (invariant, attracted, escaped)", "1"),
+                "periodic, not minimal, unbalanced, inaccessible) or the start (invariant, attracted, escaped, stopped)", "1"),
     "isolated": ("1 if the orbit found has no eigenvalue 1 over its minimal period, 0 if it has, -1 if none "
                  "found", "1"),
     "itinerary": ("walls hit over one minimal period (L left, R right)", "1"),
@@ -265,7 +265,7 @@ VARIABLES = {
     "ring_radius": ("radius of the ring in the (turn angle, spin / speed) plane of the orbit's apex state", "1"),
     "start": ("start on its ring, at evenly spaced angles", "1"),
     "start_outcome": ("what became of the start: index into the outcome axis (0 invariant, 1 attracted, "
-                      "2 escaped; -1 no orbit)", "1"),
+                      "2 escaped, 3 stopped for another reason; -1 no orbit)", "1"),
     "tail_distance": ("largest max-norm distance of a survivor's last collisions (element, s, unit v_t, unit w) "
                       "from the orbit's own collision states (NaN: escaped)", "1"),
     "exists": ("1 if the flight has this orbit at this force, else 0", "1"),

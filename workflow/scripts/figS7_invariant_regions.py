@@ -1,6 +1,7 @@
 """Figure S7: invariant regions around the two-disk path-reversing orbits as the force grows (the invariant-regions
 conjecture).  Left: the region's area against the force, per flight and branch.  Middle: the share of starts that
-stay, ring by ring.  Right: every start by outcome (stays, converges onto an attractor, escapes)."""
+stay, ring by ring.  Right: every start by outcome (stays, converges onto an attractor, escapes, stopped by the
+engine for another reason)."""
 import sys
 
 sys.stderr = open(snakemake.log[0], "w", buffering=1)
@@ -17,7 +18,8 @@ from noslipsim.experiments.invariant import OUTCOMES, region_counts
 
 ds = plot.load_figure_data(snakemake.input.invariant, required=["start_outcome", "region_area"])
 counts = region_counts(ds)
-OUTCOME_COLORS = {"invariant": plot.law_color("no-slip"), "attracted": "#E69F00", "escaped": "0.8"}
+OUTCOME_COLORS = {"invariant": plot.law_color("no-slip"), "attracted": "#E69F00", "escaped": "0.8",
+                  "stopped": "0.4"}
 CASES = [(f, b) for f in ds.flight.values for b in ds.branch.values if int(ds.exists.sel(flight=f, branch=b).sum())]
 # open markers and dashes after the first case: equal areas or shares of two cases stay visible
 STYLE = {case: dict(color=color, marker=marker, fillstyle=fill, linestyle=line) for case, color, marker, fill, line in
@@ -61,8 +63,8 @@ for outcome in OUTCOMES:
 bars.set_yticks(np.arange(len(rows)), [f"{'ff' if f == 'free fall' else 'iso'} {b} g={x:g}" for f, b, x in rows],
                fontsize=5.5)
 bars.invert_yaxis()
-bars.set(xlabel="starts")
+bars.set(xlabel="starts", xlim=(0, 1.75 * left.max()))   # room on the right for the legend, clear of the bars
 bars.set_title(f"{int(left.sum())} starts, {ds.attrs['max_collisions']:,} collisions", fontsize=8)
-bars.legend(fontsize=5.5, loc="lower right")
+bars.legend(fontsize=5.5, loc="center right")
 plot.check_legend(bars)
 plot.save_figure(fig, snakemake.output.pdf)

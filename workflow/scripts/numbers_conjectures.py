@@ -180,7 +180,7 @@ numbers["invariant_starts"] = dict(
     description="two disks, force (0, -g): starts on rings around the path-reversing 2-periodic orbits, each run "
                 f"{invariant.attrs['max_collisions']:,} collisions", value=int(starts.sum()), format="d",
     note=f"{int(exists.sum())} orbits, {invariant.sizes['ring']} rings × {invariant.sizes['start']} starts each")
-for outcome in ("invariant", "attracted", "escaped"):
+for outcome in ("invariant", "attracted", "escaped", "stopped"):
     for flight in invariant.flight.values:
         key = flight.replace(" ", "_")
         numbers[f"invariant_{key}_{outcome}"] = dict(

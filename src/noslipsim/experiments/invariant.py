@@ -23,7 +23,8 @@ Around each orbit, starts on rings in the plane (velocity turned by ``a``
 radians, spin raised by ``b`` times the speed) of the orbit's apex state, ring
 ``k`` of radius ``k * ring_step``, each run ``max_collisions`` collisions
 through :func:`noslipsim.simulate_many`.  A start *escapes* (misses both disks
-before the budget) or survives; a survivor's last ``tail`` collisions decide
+before the budget), is *stopped* by the engine for another reason (grazing, search
+limit; counted apart), or survives; a survivor's ``tail`` collisions more decide
 whether it *converged* onto a periodic orbit (an attractor,
 :func:`noslipsim.analysis.orbit_period` of its ``(s, v_t, w)``) or stays near
 the orbit without repeating (an *invariant* region).  The region's radius is
@@ -42,7 +43,8 @@ from .. import tables
 from .._metadata import annotate
 from .._validate import count, finite_float
 from ..analysis import monodromy, orbit_period, two_disk_orbit
-from ..ensemble import simulate_many
+from ..core import layout
+from ..ensemble import STOP_FLAGS, simulate_many
 from ..simulate import simulate
 
 __all__ = ["FLIGHTS", "OUTCOMES", "invariant_regions", "region_counts", "reversing_orbit", "start_outcomes"]
@@ -56,8 +58,10 @@ BRANCHES = {"free fall": ("low", "high"), "isokinetic": ("apex",)}
 #: The dataset's ``branch`` axis: every branch of every flight.
 BRANCH_AXIS = ("low", "high", "apex")
 
-#: What became of a start, in the order the figure stacks them.
-OUTCOMES = ("invariant", "attracted", "escaped")
+#: What became of a start, in the order the figure stacks them: it stayed its whole budget without
+#: repeating, converged onto a periodic orbit, escaped (missed both disks), or the engine stopped it
+#: for another reason (grazing, search limit: counted apart, not as an escape).
+OUTCOMES = ("invariant", "attracted", "escaped", "stopped")
 
 #: The apex of a thermostatted orbit is searched up to this height above ``q1``.
 APEX_SPAN = 3.0
@@ -141,24 +145,27 @@ def _ring_starts(state, ring_step, rings, starts):
     return pos, vel, state["spin"] + b * speed, k
 
 
-def start_outcomes(n_collisions, max_collisions, periods):
-    """Outcome index of each start (``OUTCOMES``): escaped below the budget, else attracted if periodic.
+def start_outcomes(stop_reasons, periods):
+    """Outcome index of each start (``OUTCOMES``) from its stop reason and the period of its tail.
 
     Parameters
     ----------
-    n_collisions : array_like of int
-        Collisions each start made.
-    max_collisions : int
-        The budget; fewer collisions is an escape.
+    stop_reasons : array_like of int
+        Each start's stop code (``noslipsim.core.layout.STOP_REASONS``).
     periods : array_like of int
         Period of each start's tail (:func:`noslipsim.analysis.orbit_period`; 0: none).
 
     Returns
     -------
     numpy.ndarray of int8
+        Budget reached: attracted when periodic, else invariant; ``escape``:
+        escaped; any other stop: stopped.
     """
-    n, p = np.asarray(n_collisions), np.asarray(periods)
-    return np.where(n < max_collisions, 2, np.where(p > 0, 1, 0)).astype(np.int8)
+    stop, p = np.asarray(stop_reasons), np.asarray(periods)
+    budget, escape = layout.STOP_REASONS.index("max_collisions"), layout.STOP_REASONS.index("escape")
+    staying = np.where(p > 0, OUTCOMES.index("attracted"), OUTCOMES.index("invariant"))
+    other = np.where(stop == escape, OUTCOMES.index("escaped"), OUTCOMES.index("stopped"))
+    return np.where(stop == budget, staying, other).astype(np.int8)
 
 
 #: A recorded collision state: which disk, arclength, and the unit ``(v_t, w)`` (the element is a
@@ -223,8 +230,9 @@ def _one_orbit(found, flight, p, scheduler, num_workers):
                          scheduler=scheduler, num_workers=num_workers, progress=False)
     reference = _portrait_states(scene, pos[:1], vel[:1], spin[:1], 2, None, "sync", None)[0]
     periods, distance = _tails(scene, runs, reference, p["tail"], scheduler, num_workers)
-    outcome = start_outcomes(runs.n_collisions.values, max_collisions, periods)
-    per_start = [x[1:].reshape(rings, starts) for x in (outcome, runs.n_collisions.values, periods, distance)]
+    outcome = start_outcomes(runs.stop_reason.values, periods)
+    per_start = [x[1:].reshape(rings, starts) for x in (outcome, runs.n_collisions.values, runs.stop_reason.values,
+                                                        periods, distance)]
     return (*per_start, int(periods[0]), _linear_kind(scene, state, flight))
 
 
@@ -293,7 +301,7 @@ def invariant_regions(forces, radius=0.8, phi=0.3, gamma=1 / math.sqrt(2), *, ri
     xarray.Dataset
         On ``(flight, force, branch, ring, start)``: ``start_outcome`` (index
         into ``OUTCOMES``, the ``outcome`` axis; -1 where there is no orbit),
-        ``n_collisions``, ``period``, ``tail_distance`` (survivors: how far
+        ``n_collisions``, ``stop_reason`` (-1: no orbit), ``period``, ``tail_distance`` (survivors: how far
         their tail strays from the orbit's own states); on ``(flight, force, branch)``:
         ``exists``, ``orbit_period``, ``linear_kind``, ``region_radius``,
         ``region_area`` and ``staying_area`` (each ring's share of staying
@@ -309,7 +317,8 @@ def invariant_regions(forces, radius=0.8, phi=0.3, gamma=1 / math.sqrt(2), *, ri
     shape = (len(p["flights"]), p["forces"].size, len(BRANCH_AXIS))
     per_start = (*shape, p["rings"], p["starts"])
     arr = dict(start_outcome=np.full(per_start, -1, dtype=np.int8), n_collisions=np.zeros(per_start, dtype=np.int64),
-               period=np.zeros(per_start, dtype=np.int64), tail_distance=np.full(per_start, np.nan),
+               stop_reason=np.full(per_start, -1, dtype=np.int8), period=np.zeros(per_start, dtype=np.int64),
+               tail_distance=np.full(per_start, np.nan),
                exists=np.zeros(shape, np.int8),
                orbit_period=np.zeros(shape, np.int64), linear_kind=np.full(shape, "", dtype="<U10"))
     for i, flight in enumerate(p["flights"]):
@@ -321,8 +330,8 @@ def invariant_regions(forces, radius=0.8, phi=0.3, gamma=1 / math.sqrt(2), *, ri
                     continue
                 arr["exists"][idx] = 1
                 out = _one_orbit(found, flight, p, scheduler, num_workers)
-                for key, value in zip(("start_outcome", "n_collisions", "period", "tail_distance", "orbit_period",
-                                             "linear_kind"), out):
+                for key, value in zip(("start_outcome", "n_collisions", "stop_reason", "period", "tail_distance",
+                                             "orbit_period", "linear_kind"), out):
                     arr[key][idx] = value
     return _regions_dataset(arr, p)
 
@@ -347,6 +356,7 @@ def _regions_dataset(arr, p):
     ring = np.arange(1, p["rings"] + 1)
     ds = xr.Dataset(
         {**{k: (full, arr[k]) for k in ("start_outcome", "n_collisions", "period", "tail_distance")},
+         "stop_reason": (full, arr["stop_reason"], dict(STOP_FLAGS)),
          **{k: (dims, arr[k]) for k in ("exists", "orbit_period", "linear_kind")},
          "region_radius": (dims, radius_of), "region_area": (dims, math.pi * radius_of ** 2),
          "staying_area": (dims, np.where(exists, staying_area, np.nan)),
