@@ -234,7 +234,8 @@ VARIABLES = {
     "search": ("search of the periodic-orbit finder, from one random start", "1"),
     "force_angle": ("direction of the force, counter-clockwise from straight down", "rad"),
     "outcome": ("how the search ended (found, not converged, no return), the pair (found, not found, not "
-                "periodic, not minimal, unbalanced, inaccessible) or the start (invariant, attracted, escaped, stopped)", "1"),
+                "periodic, not minimal, unbalanced, inaccessible) or the start (invariant, attracted, escaped, "
+                "stopped)", "1"),
     "isolated": ("1 if the orbit found has no eigenvalue 1 over its minimal period, 0 if it has, -1 if none "
                  "found", "1"),
     "itinerary": ("walls hit over one minimal period (L left, R right)", "1"),
