@@ -18,7 +18,7 @@ import pytest
 
 import noslipsim as ns
 from noslipsim import initial, tables
-from noslipsim.experiments import accessible_pair_census
+from noslipsim.experiments import accessible_pair_census, invariant_regions
 
 distributed = pytest.importorskip("distributed")
 
@@ -74,6 +74,15 @@ def test_the_accessible_pair_census_runs_on_the_cluster_with_the_same_rows(clust
     there = accessible_pair_census(["wedge", "two disks"], scheduler=cluster, **kw)
     here = accessible_pair_census(["wedge", "two disks"], scheduler="sync", **kw)
     for name in ("table", "outcome", "reason", "s0", "s1", "n_found", "linear_kind", "eigen_sum"):
+        np.testing.assert_array_equal(there[name].values, here[name].values)
+
+
+def test_the_invariant_regions_run_on_the_cluster_with_the_same_starts(cluster):
+    """Figure S7's starts, every simulate_many call by a scheduler address: the fates of the local run."""
+    kw = dict(forces=[0.5], rings=2, starts=3, ring_step=0.3, max_collisions=500, tail=20)
+    there = invariant_regions(scheduler=cluster, **kw)
+    here = invariant_regions(scheduler="sync", **kw)
+    for name in ("start_outcome", "n_collisions", "period", "tail_distance", "orbit_period"):
         np.testing.assert_array_equal(there[name].values, here[name].values)
 
 

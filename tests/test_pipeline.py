@@ -256,6 +256,21 @@ def check_conjectures_census(ds):
     assert (counts.isolated + counts.family == counts.distinct).all()
 
 
+def check_conjectures_invariant(ds):
+    from noslipsim.experiments import region_counts
+
+    exists = ds.exists.values == 1
+    outcome = ds.start_outcome.values
+    assert ((outcome >= 0).all(axis=(-2, -1)) == exists).all() and (outcome[~exists] == -1).all()
+    per_orbit = ds.sizes["ring"] * ds.sizes["start"]
+    assert (region_counts(ds).total.values == exists * per_orbit).all()
+    assert (np.isfinite(ds.tail_distance.values) == (outcome == 0) | (outcome == 1)).all()
+    assert ((outcome == 2) == (ds.stop_reason.values == 2)).all()      # escaped: stop reason 'escape'
+    assert ((outcome >= 0) & (outcome <= 1) <= (ds.n_collisions.values == ds.attrs["max_collisions"])).all()
+    radius = ds.region_radius.values[exists]
+    assert ((radius >= 0) & (radius <= ds.ring_radius.values[-1] + 1e-12)).all()
+
+
 #: Specific checks of the datasets that have them (path under results/ -> check); every dataset
 #: also gets the generic checks of test_every_dataset_opens_with_provenance_and_sane_values.
 DATASET_CHECKS = {
@@ -286,6 +301,7 @@ DATASET_CHECKS = {
     "portraits/hex_readings.nc": check_portraits_hex_readings,
     "conjectures/launch.nc": check_conjectures_launch,
     "conjectures/census.nc": check_conjectures_census,
+    "conjectures/invariant.nc": check_conjectures_invariant,
 }
 
 

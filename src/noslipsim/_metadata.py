@@ -236,8 +236,9 @@ VARIABLES = {
                      "disks)", "1"),
     "search": ("search of the periodic-orbit finder, from one random start", "1"),
     "force_angle": ("direction of the force, counter-clockwise from straight down", "rad"),
-    "outcome": ("how the search ended (found, not converged, no return) or the pair (found, not found, not "
-                "periodic, not minimal, unbalanced, inaccessible)", "1"),
+    "outcome": ("how the search ended (found, not converged, no return), the pair (found, not found, not "
+                "periodic, not minimal, unbalanced, inaccessible) or the start (invariant, attracted, escaped, "
+                "stopped)", "1"),
     "isolated": ("1 if the orbit found has no eigenvalue 1 over its minimal period, 0 if it has, -1 if none "
                  "found", "1"),
     "itinerary": ("walls hit over one minimal period (L left, R right)", "1"),
@@ -261,6 +262,22 @@ VARIABLES = {
     "n_parabolic": ("confirmed orbits that are parabolic", "1"),
     "flight_time": ("flight time T from q0 to q1 of the orbit kept (the pair's with the most even flights)", "1"),
     "flight_time_back": ("flight time T' from q1 back to q0 of the orbit kept", "1"),
+    # ------------------------------------------------ experiments.invariant (Figure S7)
+    "flight": ("flight between collisions: free fall (energy conserved) or isokinetic (the thermostat)", "1"),
+    "branch": ("which orbit of the flight: low or high launch angle (free fall), apex (isokinetic)", "1"),
+    "ring": ("ring of starts around the orbit, numbered outwards", "1"),
+    "ring_radius": ("radius of the ring in the (turn angle, spin / speed) plane of the orbit's apex state", "1"),
+    "start": ("start on its ring, at evenly spaced angles", "1"),
+    "start_outcome": ("what became of the start: index into the outcome axis (0 invariant, 1 attracted, "
+                      "2 escaped, 3 stopped for another reason; -1 no orbit)", "1"),
+    "tail_distance": ("largest max-norm distance of a survivor's last collisions (element, s, unit v_t, unit w) "
+                      "from the orbit's own collision states (NaN: escaped)", "1"),
+    "exists": ("1 if the flight has this orbit at this force, else 0", "1"),
+    "orbit_period": ("period of the unperturbed orbit's last collisions (2: it stayed on its cycle; 0: none)", "1"),
+    "region_radius": ("largest ring radius out to which every start neither escapes nor converges", "1"),
+    "region_area": ("pi region_radius^2, in the (turn angle, spin / speed) plane", "1"),
+    "staying_area": ("sum over rings of the share of starts that stay times the ring's annulus", "1"),
+    "starts_by_outcome": ("starts of the ring by outcome", "1"),
 }
 
 #: Names that mean exactly what another entry means, and take its entry.

@@ -21,6 +21,9 @@ TABLES = {
     "plain": lambda law: (tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.2)], law=law), (0.3, 0.5)),
     "plain+force": lambda law: (tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.2)], law=law, force=(0.0, -1.0)),
                                 (0.3, 0.5)),
+    # the two disks of Figure S7 under a force flown with the isokinetic thermostat
+    "plain+thermostat": lambda law: (tables.rectangle(2.0, 1.0, disks=[(1.0, 0.5, 0.2)], law=law, force=(0.0, -1.0))
+                                     .replace(thermostat="isokinetic"), (0.3, 0.5)),
     # walls of the other law around a disk of ``law``: a table of mixed laws (KernelTable.mixed)
     "mixed": lambda law: (tables.closed_hex_cell(0.4, law=law, wall_law="specular" if law == "no-slip" else "no-slip"),
                           (0.0, 0.45)),

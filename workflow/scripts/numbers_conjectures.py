@@ -1,6 +1,7 @@
-"""Counts of three of the paper's conjectures: the launch angle and the class of 2-periodic orbits (Figure S4),
+"""Counts of four of the paper's conjectures: the launch angle and the class of 2-periodic orbits (Figure S4),
 isolated and family periodic orbits of wedges under a force (Figure S5), non-path-reversing 2-periodic orbits
-between accessible points (Figure S6).  Counts, and shares to three digits."""
+between accessible points (Figure S6), invariant regions around elliptic orbits between two disks (Figure S7).
+Counts, and shares to three digits."""
 import json
 import sys
 
@@ -9,7 +10,7 @@ sys.stderr = open(snakemake.log[0], "w", buffering=1)
 import numpy as np
 import xarray as xr
 
-from noslipsim.experiments import census_counts, pair_counts
+from noslipsim.experiments import census_counts, pair_counts, region_counts
 from noslipsim.plot.numbers import significant
 
 # shares k/n are exact ratios of counts: 6 significant digits (the table prints 3); the boundary
@@ -169,5 +170,67 @@ for kind in ("elliptic", "hyperbolic", "parabolic"):
     numbers[f"accessible_orbits_{kind}"] = dict(
         description=f"confirmed orbits (family members tried on found pairs) that are {kind}",
         value=int(accessible[f"n_{kind}"].sum()), format="d")
+
+# ------------------------------------------------------------------ invariant regions (Figure S7)
+invariant = xr.load_dataset(snakemake.input.invariant)
+starts = region_counts(invariant).starts
+exists = invariant.exists
+forces_note = lambda mask: ", ".join(f"{g:g}" for g in invariant.force.values[mask]) or "none"  # noqa: E731
+numbers["invariant_starts"] = dict(
+    description="two disks, force (0, -g): starts on rings around the path-reversing 2-periodic orbits, each run "
+                f"{invariant.attrs['max_collisions']:,} collisions", value=int(starts.sum()), format="d",
+    note=f"{int(exists.sum())} orbits, {invariant.sizes['ring']} rings × {invariant.sizes['start']} starts each")
+for outcome in ("invariant", "attracted", "escaped", "stopped"):
+    for flight in invariant.flight.values:
+        key = flight.replace(" ", "_")
+        numbers[f"invariant_{key}_{outcome}"] = dict(
+            description=f"{flight}: starts that ended '{outcome}'", value=int(starts.sel(flight=flight,
+                                                                                        outcome=outcome).sum()),
+            format="d", **({"paper": "stable periodic orbits under a force create invariant regions"}
+                           if outcome == "attracted" else {}))
+if "free fall" in invariant.flight.values:
+    ff = invariant.sel(flight="free fall")
+    numbers["invariant_free_fall_missing"] = dict(
+        description="forces with no free-fall orbit at unit launch speed (g d > 1)",
+        value=int((ff.exists.sum("branch") == 0).sum()), format="d",
+        note=f"g = {forces_note((ff.exists.sum('branch') == 0).values)}")
+    kinds = ff.linear_kind.values.astype(str)
+    numbers["invariant_free_fall_elliptic"] = dict(
+        description="free-fall orbits that are elliptic (exact monodromy)", value=int((kinds == "elliptic").sum()),
+        format="d", note=f"of {int(ff.exists.sum())}")
+    hyperbolic = kinds == "hyperbolic"
+    numbers["invariant_hyperbolic_staying"] = dict(
+        description="starts around the hyperbolic free-fall orbits that stay",
+        value=int(starts.sel(flight="free fall", outcome="invariant").values[hyperbolic].sum()), format="d",
+        note=f"of {int(starts.sel(flight='free fall').sum('outcome').values[hyperbolic].sum())}")
+    for branch in ("low", "high"):
+        radius = ff.region_radius.sel(branch=branch).values
+        elliptic = kinds[:, list(ff.branch.values).index(branch)] == "elliptic"
+        if elliptic.any():
+            numbers[f"invariant_free_fall_{branch}_radius"] = dict(
+                description=f"free fall, {branch} launch, elliptic orbits: region radius (every start stays) "
+                            "from the smallest to the largest force",
+                value=significant(float(radius[elliptic][-1]), BOUNDARY), format=".2f",
+                note="g: radius " + ", ".join(f"{g:g}: {r:.2f}" for g, r in
+                                                 zip(ff.force.values[elliptic], radius[elliptic])))
+if "isokinetic" in invariant.flight.values:
+    iso = invariant.sel(flight="isokinetic", branch="apex")
+    radius = iso.region_radius.values
+    numbers["invariant_isokinetic_radius"] = dict(
+        description="isokinetic thermostat: region radius (every start stays) at the largest force",
+        value=significant(float(radius[-1]), BOUNDARY), format=".2f",
+        note="g: radius " + ", ".join(f"{g:g}: {r:.2f}" for g, r in zip(iso.force.values, radius)))
+    near = iso.tail_distance.isel(ring=0).max("start").values   # NaN where every ring-1 start escaped
+    if np.isfinite(near).any():
+        numbers["invariant_isokinetic_ring1_distance"] = dict(
+            description="isokinetic thermostat, at the largest force with a ring-1 survivor: how far those "
+                        "survivors' last collisions lie from the orbit's own (largest max-norm distance in element, "
+                        "s, unit v_t, unit w)",
+            value=significant(float(near[np.isfinite(near)][-1]), BOUNDARY), format=".2f",
+            note="g: distance " + ", ".join(f"{g:g}: {d:.2f}" for g, d in zip(iso.force.values, near)))
+    leaves = (iso.exists == 1) & (iso.orbit_period != 2)
+    numbers["invariant_isokinetic_orbit_leaves"] = dict(
+        description="isokinetic thermostat: forces where the unperturbed orbit itself leaves its cycle",
+        value=int(leaves.sum()), format="d", note=f"g = {forces_note(leaves.values)}")
 with open(snakemake.output.numbers, "w") as fh:
     json.dump(numbers, fh, indent=1, ensure_ascii=False)

@@ -3,13 +3,14 @@
 One module per subject of the figure pipeline: :mod:`.galton` (Figures 2, 3, S1),
 :mod:`.orbits` (Figures 1, 4, 5, 6, 8, 16), :mod:`.stability` (Figures 7, 9, 14, 15) and
 :mod:`.portraits` (Figures 10-13), :mod:`.readings` (Figure 15 under every reading),
-:mod:`.conjectures` (Figures S4, S5) and :mod:`.accessible` (Figure S6): the paper's conjectures, counted,
-over :mod:`.orbit_sets` (several orbits as one dataset).
+:mod:`.conjectures` (Figures S4, S5), :mod:`.accessible` (Figure S6) and :mod:`.invariant`
+(Figure S7): the paper's conjectures, counted, over :mod:`.orbit_sets` (several orbits as one dataset).
 ``EXPERIMENTS`` names those a config file can run (``noslipsim run``).
 """
 from .accessible import accessible_pair_census, pair_counts
 from .conjectures import census_counts, launch_angle_classes, wedge_periodic_census
 from .galton import galton_cases, galton_distribution, galton_evidence, galton_orbits, galton_radius_sweep
+from .invariant import invariant_regions, region_counts
 from .orbit_sets import orbit_set, phase_portrait
 from .orbits import (
     bounce_orbits,
@@ -57,6 +58,7 @@ __all__ = [
     "hex_force_portraits",
     "hex_force_readings",
     "hex_reading_scene",
+    "invariant_regions",
     "launch_angle_classes",
     "lemon_sinai_portraits",
     "newwedge_orbits",
@@ -68,6 +70,7 @@ __all__ = [
     "polygon_portraits",
     "portrait_set",
     "readings_table",
+    "region_counts",
     "sinai_gamma_portraits",
     "sinai_islands_sweep",
     "specular_noslip_orbits",
