@@ -209,6 +209,8 @@ VARIABLES = {
                    "gives)", "rad"),
     "launch_elevation": ("elevation of the launch at q0 above the chord q0 q1", "rad"),
     "position_angle": ("angle of q0 above the horizontal, seen from the left disk's centre", "rad"),
+    "lambda_at_paper_theta": ("largest eigenvalue modulus |lambda| of the two-disk 2-periodic orbit's monodromy at "
+                              "the paper's launch angle theta = 1.3 (experiments.readings.lambda_at)", "1"),
     # ------------------------------------------------ analysis: regular orbits (analysis.islands)
     "regular": ("1 if ftle < the dataset's regular_threshold (an orbit on an invariant torus), else 0", "1"),
     "share_regular": ("share of orbits with ftle < regular_threshold (regular)", "1"),
