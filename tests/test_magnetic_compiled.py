@@ -8,8 +8,9 @@ import math
 
 import numpy as np
 import pytest
+from test_magnetic_physics import ISPINNED_CASES, sinai_db
 
-from noslipsim import Circle, Scene, simulate, simulate_many, tables
+from noslipsim import simulate, simulate_many, tables
 from noslipsim._engine.run import run_orbits
 from noslipsim._engine.table import kernel_table
 from noslipsim.analysis import twin_lyapunov
@@ -61,21 +62,10 @@ def test_sinai_torus_against_the_twin(W):
     _agree(torus, (0.0, 0.45), (1.0, 0.3), 0.0, 12, tol=1e-9)
 
 
-def _sinai_db(radius=0.25):
-    """DynamicalBilliards' ``billiard_sinai(setting="periodic")``: unit square, disk at its centre."""
-    return Scene((Circle((0.5, 0.5), radius, "outside"),), law="specular", gamma=0.0,
-                 lattice={"a1": [1.0, 0.0], "a2": [0.0, 1.0]})
-
-
-@pytest.mark.parametrize("x, y, phi, omega, pinned", [
-    (0.2, 0.5, -math.pi / 2, 1 / 0.3, True),    # circles the disk at its own centre
-    (0.1, 0.5, -math.pi / 2, 1 / 0.05, True),   # a small circle inside one cell
-    (0.0, 1.0, -math.pi / 2, 0.44 * 2, True),   # crosses cell faces, meets no disk
-    (0.2, 0.8, -math.pi / 2, 1 / 0.3, False),
-])
+@pytest.mark.parametrize("x, y, phi, omega, pinned", ISPINNED_CASES)
 def test_dynamical_billiards_ispinned_cases(x, y, phi, omega, pinned):
     """DynamicalBilliards.jl test/various_tests.jl ``ispinned_tests``, through the compiled loop."""
-    orbit = simulate(_sinai_db().replace(magnetic=omega), (x, y), (math.cos(phi), math.sin(phi)), max_collisions=3)
+    orbit = simulate(sinai_db().replace(magnetic=omega), (x, y), (math.cos(phi), math.sin(phi)), max_collisions=3)
     assert (orbit.attrs["stop_reason"] == "pinned") == pinned
     assert int(orbit.n_collisions) == (0 if pinned else 3)
 

@@ -52,12 +52,16 @@ def sinai_db(radius=0.25):
                  lattice={"a1": [1.0, 0.0], "a2": [0.0, 1.0]})
 
 
-@pytest.mark.parametrize("x, y, phi, omega, pinned", [
+#: DynamicalBilliards.jl test/various_tests.jl ``ispinned_tests``: MagneticParticle(x, y, phi, omega), pinned?
+ISPINNED_CASES = [
     (0.2, 0.5, -math.pi / 2, 1 / 0.3, True),    # circles the disk at its own centre
     (0.1, 0.5, -math.pi / 2, 1 / 0.05, True),   # a small circle inside one cell
     (0.0, 1.0, -math.pi / 2, 0.44 * 2, True),   # crosses cell faces, meets no disk
     (0.2, 0.8, -math.pi / 2, 1 / 0.3, False),
-])
+]
+
+
+@pytest.mark.parametrize("x, y, phi, omega, pinned", ISPINNED_CASES)
 def test_dynamical_billiards_ispinned_cases(x, y, phi, omega, pinned):
     """DynamicalBilliards.jl test/various_tests.jl ``ispinned_tests``: MagneticParticle(x, y, phi, omega)."""
     orbit = simulate_reference(sinai_db().replace(magnetic=omega), (x, y), (math.cos(phi), math.sin(phi)),
