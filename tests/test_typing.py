@@ -13,7 +13,12 @@ def public_callables():
     for name in noslipsim.__all__:
         obj = getattr(noslipsim, name)
         if inspect.isclass(obj):
-            for attr, member in vars(obj).items():
+            # its own and inherited members (a shared base, such as the round elements', counts for each kind)
+            members = {}
+            for klass in reversed(obj.__mro__):
+                if klass.__module__.startswith("noslipsim"):
+                    members.update(vars(klass))
+            for attr, member in members.items():
                 if attr.startswith("_"):
                     continue
                 func = member.fget if isinstance(member, property) else getattr(member, "__func__", member)

@@ -92,7 +92,7 @@ VARIABLES = {
     "spread": ("half-width of the square of release points around the release point", "1"),
     "speed": ("release speed (uniformly random direction)", "1"),
     "rows": ("peg rows to the terminal depth", "1"),
-    "width": ("half-width of a walled Galton board, side walls at x = -width and x = width (inf: no walls)", "1"),
+    "width": ("half-width of a walled Galton board, side walls at x = -width and x = width (0: no walls)", "1"),
     "wall_law": ("collision law of a Galton board's side walls ('none': no walls, 'pegs': the pegs' law)", "1"),
     "max_time": ("time limit of the case's run", "1"),
     # ------------------------------------------------ experiments.portraits

@@ -345,16 +345,16 @@ class Line(BoundaryElement):
         n = np.array(self.normal)
         return StraightCarrier(np.array(self.point, float), np.array([-n[1], n[0]]))
 
-    def frame_at(self, s):
+    def frame_at(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Frame at ``s`` along ``t = J n_out`` from ``point`` (see :meth:`BoundaryElement.frame_at`)."""
         p = self.params()
         return _straight_frame(p, p[3], -p[2], s)
 
-    def at_fraction(self, u):
+    def at_fraction(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Refused: an infinite line has no fraction of the way along."""
         raise ValueError("an infinite line has no length to lay points along")
 
-    def at_arclength(self, s):
+    def at_arclength(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Refused: an infinite line has no start to measure arclength from."""
         raise ValueError("an infinite line has no length to lay points along")
 
@@ -467,25 +467,25 @@ class Segment(BoundaryElement):
         p0, p1 = np.array(self.p0, float), np.array(self.p1, float)
         return StraightCarrier(p0, p1 - p0)
 
-    def end_frames(self):
+    def end_frames(self) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
         """``p0`` and ``p1``, each with the unit direction into the segment and the inward normal."""
         p0, p1 = np.array(self.p0, float), np.array(self.p1, float)
         d = (p1 - p0) / np.linalg.norm(p1 - p0)
         n_in = np.array(self.params()[2:4])
         return [(p0, d, n_in), (p1, -d, n_in)]
 
-    def frame_at(self, s):
+    def frame_at(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Frame at ``s`` from ``p0`` towards ``p1`` (see :meth:`BoundaryElement.frame_at`)."""
         p = self.params()
         return _straight_frame(p, p[4], p[5], s)
 
-    def at_fraction(self, u):
+    def at_fraction(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(point, n_out)`` at ``p0 + u (p1 - p0)``."""
         p0, p1 = np.array(self.p0), np.array(self.p1)
         pt = p0 + u[:, None] * (p1 - p0)
         return pt, np.broadcast_to(-np.array(self.params()[2:4]), pt.shape)
 
-    def at_arclength(self, s):
+    def at_arclength(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(point, n_out)`` at distance ``s`` from ``p0`` towards ``p1``."""
         x0, y0, nx, ny, ux, uy, _ = self.params()  # start, inward normal, unit direction, length
         pt = np.array([x0, y0]) + s[:, None] * np.array([ux, uy])
@@ -531,7 +531,7 @@ class _Round(BoundaryElement):
         radial = np.c_[np.cos(angle), np.sin(angle)]
         return np.array(self.center) + self.radius * radial, -self.sigma * radial
 
-    def frame_at(self, s):
+    def frame_at(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Frame at ``s = r (theta - theta0)`` (see :meth:`BoundaryElement.frame_at`)."""
         # point c + r e(theta), n_out = -sigma_c e, t = -sigma_c e_theta
         r, sig = self.radius, self.sigma
@@ -540,7 +540,7 @@ class _Round(BoundaryElement):
         return (np.c_[self.center[0] + r * cos, self.center[1] + r * sin], np.c_[-sig * cos, -sig * sin],
                 -sig / r, -sig)
 
-    def at_arclength(self, s):
+    def at_arclength(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(point, n_out)`` at arclength ``s`` counter-clockwise from the start angle."""
         return self._points(self._theta_start + s / self.radius)
 
@@ -616,7 +616,7 @@ class Circle(_Round):
         c = (self.center[0] + dx, self.center[1] + dy)
         return (Disc(c, self.radius) if self.side == "outside" else Curve(c, self.radius),)
 
-    def at_fraction(self, u):
+    def at_fraction(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(point, n_out)`` at the angles ``2 pi u``."""
         return self._points(0.0 + u * (TWO_PI - 0.0))
 
@@ -733,7 +733,7 @@ class Arc(_Round):
         ys = [self.center[1] + self.radius * math.sin(a) for a in angles]
         return [np.array([min(xs), min(ys)]), np.array([max(xs), max(ys)])]
 
-    def end_frames(self):
+    def end_frames(self) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
         """The ends at ``theta0`` and ``theta1``, each with the unit direction into the arc and the inward normal."""
         out = []
         for ang, sgn in ((self.theta0, 1.0), (self.theta1, -1.0)):
@@ -742,7 +742,7 @@ class Arc(_Round):
             out.append((pt, sgn * np.array([-radial[1], radial[0]]), self.sigma * radial))
         return out
 
-    def at_fraction(self, u):
+    def at_fraction(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(point, n_out)`` at the angles ``theta0 + u (theta1 - theta0)``."""
         return self._points(self.theta0 + u * (self.theta1 - self.theta0))
 

@@ -8,7 +8,7 @@ import numpy as np
 import xarray as xr
 
 from noslipsim.analysis import arrival_curve, excess_kurtosis, tail_share
-from noslipsim.plot.numbers import significant
+from noslipsim.plot.numbers import rounded, significant
 
 dist = xr.load_dataset(snakemake.input.distribution)
 long_run = xr.load_dataset(snakemake.input.arrivals)
@@ -59,7 +59,7 @@ for law in ("specular", "no-slip"):
     k, ke = excess_kurtosis(arrived_x(law))
     numbers[f"kurtosis_terminal_{law.replace('-', '')}"] = dict(
         description=f"{law} excess kurtosis of the terminal horizontal displacement (0 for a normal law)",
-        value=significant(k, STATISTIC), stderr=significant(ke, ERROR), format=".2f", paper="apparently Gaussian")
+        value=significant(k, STATISTIC), stderr=rounded(ke, 2), format=".2f", paper="apparently Gaussian")
 SPAN, ARRIVED_CLAIM = 4.5, 0.95  # Figure 3: the top panels' half-width in sigma; boards claimed in its rows panels
 for law in ("specular", "no-slip"):
     x = arrived_x(law)
@@ -67,7 +67,7 @@ for law in ("specular", "no-slip"):
     numbers[f"tail_share_terminal_{law.replace('-', '')}"] = dict(
         description=f"{law} share of the arrived terminal displacements beyond 3 standard deviations from the mean "
                     f"(normal law: {normal:.2%})",
-        value=significant(p, SHARE), stderr=significant(e, ERROR), format=".2%", paper="apparently Gaussian",
+        value=significant(p, SHARE), stderr=rounded(e, 4), format=".2%", paper="apparently Gaussian",
         note="noslipsim.analysis.tail_share: a count, not set by the farthest few as the kurtosis is")
     numbers[f"beyond_histogram_{law.replace('-', '')}"] = dict(
         description=f"{law} arrived particles beyond ±{SPAN:g} standard deviations from the mean (counted in Figure "
@@ -108,11 +108,12 @@ for law in ("specular", "no-slip"):
     numbers[f"kurtosis_deepest_{name}"] = dict(
         description=f"{law} excess kurtosis of the terminal displacement on the deepest board ({deepest} rows, "
                     f"{arrived_share:.1%} arrived by {float(rows.max_time.values[-1]):.0f})",
-        value=significant(k, STATISTIC), stderr=significant(ke, ERROR), format=".2f", paper="apparently Gaussian")
+        # the error to the places it is printed with: 0.125 would print 0.12 or 0.13 one ulp apart
+        value=significant(k, STATISTIC), stderr=rounded(ke, 2), format=".2f", paper="apparently Gaussian")
     numbers[f"tail_share_deepest_{name}"] = dict(
         description=f"{law} share beyond 3 standard deviations on the deepest board ({deepest} rows; normal law: "
                     f"{normal:.2%})",
-        value=significant(p, SHARE), stderr=significant(e, ERROR), format=".2%", paper="apparently Gaussian")
+        value=significant(p, SHARE), stderr=rounded(e, 4), format=".2%", paper="apparently Gaussian")
 factor, m = long_run.attrs["time_factor"], long_run.attrs["n_particles"]
 for law, g in (("no-slip", gamma), ("specular", None)):
     p, e = share(long_run, law, g)

@@ -267,6 +267,12 @@ def galton_orbits(gammas=(0.0, 1 / math.sqrt(2), 3.0), *, velocity=(0.6, 0.8), s
 
 
 #: The release and board settings a case of :func:`galton_evidence` may change.
+def _walls_coordinate(width):
+    """The ``width`` coordinate of an evidence case: its walls' half-width, 0 for a board without side walls
+    (a coordinate is finite; a walled board is never 0 wide, ``tables.walled_galton_board``)."""
+    return 0.0 if math.isinf(width) else float(width)
+
+
 EVIDENCE_KEYS = ("top_row", "start", "spread", "speed", "radius", "rows", "width", "wall_law", "max_time")
 
 
@@ -309,7 +315,7 @@ def galton_evidence(cases, n_particles=1000, *, laws=("no-slip",), gamma=1 / mat
         and ``share_not_arrived`` (by ``max_time``); per case
         the coordinates ``group``, ``board`` (``'bounded'`` or
         ``'unbounded'``), ``start_x``, ``start_y``, ``spread``, ``speed``,
-        ``radius``, ``rows``, ``width`` (``inf``: no side walls), ``wall_law``
+        ``radius``, ``rows``, ``width`` (0: no side walls), ``wall_law``
         (``'none'``, ``'pegs'``: the pegs' law, or a law name) and
         ``max_time``; the attribute ``max_time`` is the longest case's.
     """
@@ -330,7 +336,8 @@ def galton_evidence(cases, n_particles=1000, *, laws=("no-slip",), gamma=1 / mat
         a = ds.attrs
         rows_of.append(dict(group=str(case.get("group", "")), board=a["board"], start_x=a["start"][0],
                             start_y=a["start"][1], spread=a["spread"], speed=a["speed"], radius=a["radius"],
-                            rows=a["rows"], width=a["width"], wall_law=a["wall_law"], max_time=a["max_time"]))
+                            rows=a["rows"], width=_walls_coordinate(a["width"]), wall_law=a["wall_law"],
+                            max_time=a["max_time"]))
     res = xr.concat(parts, dim=xr.DataArray(names, dims="case", name="case"), combine_attrs="drop")
     for key in rows_of[0]:
         res = res.assign_coords({key: ("case", [r[key] for r in rows_of])})
