@@ -113,9 +113,20 @@ def line_coefficients(x, y, vx, vy, W, px, py, nx, ny, deflate):
     ``m0, m1, m2``: the size of the terms of each coefficient (its rounding is a few ``EPS m``).
     """
     c0 = 0.0 if deflate else -(nx * (x - px) + ny * (y - py))
-    a = -(nx * vx + ny * vy)
-    b = -(ny * vx - nx * vy)  # n_in . J v
     m0 = abs(nx) * (abs(x) + abs(px)) + abs(ny) * (abs(y) + abs(py))
+    return functional_coefficients(c0, m0, -nx, -ny, vx, vy, W)
+
+
+@jit(inline="always")
+def functional_coefficients(c0, m0, nx, ny, vx, vy, W):
+    """``(c0, c1, c2, m0, m1, m2)``: the quadratic in ``zeta`` of ``c0 + n . (q(t) - q(0))`` from velocity ``v``.
+
+    ``n`` points to the side where the function is positive (a line's table side, a lattice face's
+    inside; it need not be unit); ``m0``: the size of the terms ``c0`` was formed from.  A line's
+    signed distance (:func:`line_coefficients`), a lattice face and the stop level are such functions.
+    """
+    a = nx * vx + ny * vy
+    b = ny * vx - nx * vy  # n . J v
     m1 = abs(nx * vx) + abs(ny * vy)
     c2 = W * (0.5 * b + 0.25 * W * c0)
     m2 = abs(W) * (0.5 * (abs(ny * vx) + abs(nx * vy)) + 0.25 * abs(W) * m0)

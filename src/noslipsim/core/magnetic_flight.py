@@ -4,8 +4,8 @@ The path is the cyclotron arc of :mod:`magnetic` (speed and spin kept, the veloc
 rate ``W``), which meets each line or circle at most once per period, at its exit root, or never.
 So every answer here is one closed-form root: an element's exit from the state where the window
 opens, a lattice face's or a level's exit from the functional ``f0 + n . (q(t) - q(0))``, whose
-quadratic in the tangent half-angle is the line's (:func:`magnetic.line_coefficients`) with its own
-``c0``.  No search, no step: nothing here can give up.
+quadratic in the tangent half-angle is the one a line's distance has
+(:func:`magnetic.functional_coefficients`).  No search, no step: nothing here can give up.
 """
 import math
 
@@ -17,6 +17,7 @@ from .magnetic import (
     circle_coefficients,
     exit_root,
     exit_time,
+    functional_coefficients,
     line_coefficients,
     root_position,
     zeta_time,
@@ -91,13 +92,9 @@ def element_exit(kind, p, G, sx, sy, deflate, lo, hi, extent_tol):
 @jit(inline="always")
 def _functional_exit(f, m0, nx, ny, vx, vy, W):
     """Time of the first exit of ``f + n . (q(t) - q(0))`` from the state ``(vx, vy)`` where it is ``f``
-    (``m0``: the size of the terms ``f`` was formed from); :func:`magnetic.line_coefficients` with ``c0 = f``."""
-    a = nx * vx + ny * vy
-    b = ny * vx - nx * vy  # n . J v
-    m1 = abs(nx * vx) + abs(ny * vy)
-    c2 = W * (0.5 * b + 0.25 * W * f)
-    m2 = abs(W) * (0.5 * (abs(ny * vx) + abs(nx * vy)) + 0.25 * abs(W) * m0)
-    return exit_time(f, a, c2, m0, m1, m2, W, False)
+    (``m0``: the size of the terms ``f`` was formed from; :func:`magnetic.functional_coefficients`)."""
+    c0, c1, c2, m0, m1, m2 = functional_coefficients(f, m0, nx, ny, vx, vy, W)
+    return exit_time(c0, c1, c2, m0, m1, m2, W, False)
 
 
 @jit
