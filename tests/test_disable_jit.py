@@ -1,8 +1,8 @@
 """The kernels run as plain Python under ``NUMBA_DISABLE_JIT=1`` (debugging, coverage), with the compiled results.
 
-One orbit of every flight the event loop has (straight, constant force, the isokinetic thermostat, the lean
-loop of disks on a lattice) runs in a process without numba's compiler and must equal the compiled orbit bit
-for bit.  Python's ``math.hypot`` is CPython's own algorithm while the compiled kernels call the C library's
+One orbit of every flight the event loop has (straight, constant force, the isokinetic thermostat, the magnetic
+field, the lean loop of disks on a lattice) runs in a process without numba's compiler and must equal the compiled
+orbit bit for bit.  Python's ``math.hypot`` is CPython's own algorithm while the compiled kernels call the C library's
 ``hypot``; the two may differ in the last bit (on the Galton board the orbits part at collision 30), so the
 plain-Python process calls the C library's, as the compiled code does.
 """
@@ -27,6 +27,8 @@ def _flights():
                                 thermostat="isokinetic", lattice={"a1": [1.0, 0.0], "a2": [0.5, math.sqrt(3) / 2]}),
                        (0.5, 0.3), (0.6, 0.8)),
         "disks": (ns.tables.sinai_torus(0.25), (0.45, 0.1), (0.6, 0.8)),
+        "magnetic": (ns.tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)]).replace(magnetic=1.5), (0.1, 0.1),
+                     (0.6, 0.8)),
     }
 
 

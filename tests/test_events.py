@@ -30,11 +30,13 @@ import mpmath
 import naive
 import numpy as np
 import pytest
+from python_flight import python_flight
 
 from noslipsim import Arc, Circle, Line, Scene, Segment
 from noslipsim._engine.table import kernel_table
-from noslipsim.core import events, roots
-from noslipsim.core.events import element_hit_time, exit_roots, hit_in_cell, leaves_through_contact
+from noslipsim.core import events, free_flight, roots, search
+from noslipsim.core.cells import hit_in_cell
+from noslipsim.core.events import element_hit_time, exit_roots, leaves_through_contact
 from noslipsim.core.geometry import place_on_element
 from noslipsim.core.layout import ARC, CIRCLE, END_START, LINE, SEGMENT
 from noslipsim.core.tolerances import CONTACT_TOL, EXTENT_TOL
@@ -67,7 +69,7 @@ def next_hit(kinds, params, x, y, vx, vy, ax, ay, has_force, current, hi, extent
     A = np.zeros((2, 2))
     hit = hit_in_cell if hit is None else hit
     # t_in = 0: the flight starts in the cell; no shift to form; no ceiling (a bounded lattice's top)
-    t, e, _, _ = hit(kinds, params, copies, A, 0, 0, x, y, vx, vy, ax, ay, has_force,
+    t, e, _, _ = hit(kinds, params, copies, A, 0, 0, (x, y, vx, vy, ax, ay, has_force),
                      current, 0, 0, hi, extent_tol, 0.0, False, INF)
     return t, e
 
@@ -908,10 +910,12 @@ def test_scene_without_force_never_solves_a_cubic_or_quartic(monkeypatch):
     monkeypatch.setattr(events, "quartic_exits", counting("quartic_exits", roots.quartic_exits))
     monkeypatch.setattr(events, "exit_roots", events.exit_roots.py_func)
     monkeypatch.setattr(events, "element_hit_time", events.element_hit_time.py_func)
+    monkeypatch.setattr(free_flight, "element_hit_time", events.element_hit_time)
     rng = np.random.default_rng(seed_of("counting"))
+    py_hit_in_cell = search.cell_search(python_flight(free_flight), compile=lambda func: func)
 
     def py_next_hit(*args):
-        return next_hit(*args, hit=events.hit_in_cell.py_func)
+        return next_hit(*args, hit=py_hit_in_cell)
 
     for name in ("box", "sinai", "stadium", "pegs"):
         els, q0, _ = scene_for(name, rng)

@@ -14,7 +14,8 @@ import pytest
 
 from noslipsim import tables
 from noslipsim._engine.table import kernel_table
-from noslipsim.core.events import advance, flight_position, hit_in_cell
+from noslipsim.core.cells import hit_in_cell
+from noslipsim.core.events import advance, flight_position
 from noslipsim.core.geometry import crossing_coefficients, crossing_slope
 from noslipsim.core.layout import ARC, CIRCLE, LINE, SEGMENT
 from noslipsim.core.tolerances import EXTENT_TOL
@@ -66,7 +67,7 @@ def test_plain_scene_copies_are_hit_the_same_unshifted(force):
         ang = rng.uniform(0, 2 * math.pi)
         vx, vy = math.cos(ang), math.sin(ang)
         cur = int(rng.integers(-1, len(kinds)))  # sometimes a deflated element (as just after a hit)
-        args = (kinds, params, copies, A, 0, 0, x, y, vx, vy, ax, ay, has_force, cur, 0, 0, math.inf,
+        args = (kinds, params, copies, A, 0, 0, (x, y, vx, vy, ax, ay, has_force), cur, 0, 0, math.inf,
                 EXTENT_TOL * scene.scale, 0.0)
         shifted = hit_in_cell(*args, True)
         unshifted = hit_in_cell(*args, False)

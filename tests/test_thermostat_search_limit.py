@@ -10,15 +10,18 @@ The limit is a compile-time constant, so the tests run the kernels' Python sourc
 (``py_func``, with the module's globals patched: a step limit of 1, the inner searches as Python)
 on a flight that needs several steps to reach a disk.
 """
+import json
 import math
-import types
+import os
+import subprocess
+import sys
 
-import numpy as np
 import pytest
+from python_flight import python_flight
 
 from noslipsim import tables
 from noslipsim._engine.table import kernel_table
-from noslipsim.core import layout, loop, search, thermo_events, thermo_flight
+from noslipsim.core import layout, search, thermo_events, thermo_flight
 from noslipsim.core.thermostat import flight
 from noslipsim.core.tolerances import EXTENT_TOL, MAX_CELLS_PER_FLIGHT
 
@@ -50,10 +53,7 @@ def one_step(monkeypatch):
     for name in ("round_hit", "element_hit"):
         monkeypatch.setattr(thermo_events, name, getattr(thermo_events, name).py_func)
     monkeypatch.setattr(thermo_flight, "element_hit", thermo_events.element_hit)
-    flight_py = types.ModuleType("thermo_flight_py")
-    for name in ("start", "state_at", "speed_bound", "window", "element_exit", "face_exit", "line_exit"):
-        setattr(flight_py, name, getattr(thermo_flight, name).py_func)
-    hit_in_cell, walk_hit, _exact = search.event_search(flight_py, compile=lambda func: func)
+    hit_in_cell, walk_hit, _exact = search.event_search(python_flight(thermo_flight), compile=lambda func: func)
     return hit_in_cell, walk_hit
 
 
@@ -85,18 +85,34 @@ def test_a_search_out_of_steps_says_so_at_every_layer(one_step):
     assert got[1] == thermo_events.SEARCH_FAILED and got[4] == 3
 
 
-def test_the_event_loop_stops_with_search_limit(monkeypatch):
-    """The loop's Python source with a cell search that gives up: stop code 6 where the orbit stands."""
-    monkeypatch.setattr(loop, "thermo_hit_in_cell",
-                        lambda *args: (thermo_events.GAVE_UP, thermo_events.SEARCH_FAILED, 0, 0))
-    scene = _scene(False)
-    table = kernel_table(scene)
-    run = loop.orbit_kernel(*table.variant(layout.RECORD_NONE)).py_func
-    x, y, vx, vy = START
-    out = run(*table.arrays(), table.law, table.c, table.s, table.ax, table.ay, table.thermostat, x, y, vx, vy, 0.1,
-              10, math.inf, -math.inf, table.scale, layout.RECORD_NONE, np.zeros((0, 0)),
-              np.zeros(len(table.kinds), dtype=np.bool_), -1)
-    n, stop = out[0], out[1]
+_LOOP_CHILD = """
+import json, math, sys
+import numba
+import numpy as np
+assert numba.config.DISABLE_JIT
+sys.path.insert(0, {tests!r})
+import test_thermostat_search_limit as t
+from noslipsim._engine.table import kernel_table
+from noslipsim.core import layout, loop, thermo_events
+thermo_events.MAX_STEPS = 1  # the circle search gives up at its first step
+table = kernel_table(t._scene(False))
+run = loop.orbit_kernel(*table.variant(layout.RECORD_NONE))
+x, y, vx, vy = t.START
+out = run(*table.arrays(), table.law, table.c, table.s, table.ax, table.ay, table.thermostat, x, y, vx, vy, 0.1,
+          10, math.inf, -math.inf, table.scale, layout.RECORD_NONE, np.zeros((0, 0)),
+          np.zeros(len(table.kinds), dtype=np.bool_), -1)
+print(json.dumps([int(out[0]), int(out[1]), [float(v) for v in out[5:9]]]))
+"""
+
+
+def test_the_event_loop_stops_with_search_limit():
+    """The event loop as Python (``NUMBA_DISABLE_JIT=1``) with a circle search that gives up at its first step:
+    stop code 6 where the orbit stands, no collision."""
+    env = dict(os.environ, NUMBA_DISABLE_JIT="1")
+    code = _LOOP_CHILD.format(tests=os.path.dirname(os.path.abspath(__file__)))
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr[-3000:]
+    n, stop, state = json.loads(out.stdout.strip().splitlines()[-1])
     assert (n, stop) == (0, layout.STOP_SEARCH_LIMIT)
     assert layout.STOP_REASONS[stop] == "search_limit"
-    assert out[5:9] == (x, y, vx, vy)     # the state where the search gave up, not one flown past a hit
+    assert tuple(state) == START     # the state where the search gave up, not one flown past a hit

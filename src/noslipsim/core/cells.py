@@ -18,14 +18,20 @@ face times.
 """
 import math
 
-from .events import element_hit_time, hit_in_cell, window_box
+from . import far_flight, free_flight
 from .exact import lattice_shift_dd, two_prod, two_sum
-from .geometry import copy_shift, crossing_coefficients, element_box, lattice_coordinates, line_value, nearest_cell
+from .far_flight import flight_point_dd, minus_shift_dd
+from .geometry import crossing_coefficients, lattice_coordinates, line_value, nearest_cell
 from .jit import jit
 from .layout import LINE, SEGMENT
 from .roots import quadratic_exit, quadratic_roots
+from .search import cell_search
 
 INF = math.inf
+#: The earliest hit over a cell's copies (:func:`search.cell_search`): near cells, inlined.
+hit_in_cell = cell_search(free_flight)
+#: The same for a cell ``FAR_CELLS`` or more from the flight's start (:mod:`far_flight`), out of line.
+far_hit_in_cell = cell_search(far_flight)
 
 #: The walk tests the copies of a cell this many cells (or more) from the flight's start on the
 #: flight re-centred exactly (:func:`far_hit_in_cell`), and a straight flight's hit found there is
@@ -112,7 +118,7 @@ def _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
             break                               # back); a call in this loop cost the walk a third (Galton board)
         k += 1
         t_out = min(ta, tb)
-        t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, 0.0, 0.0, False,
+        t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, 0.0, 0.0, False),
                                    cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
         if e >= 0:
             return t, e, o1, o2, 0
@@ -138,8 +144,8 @@ def _walk_straight_far(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, c
     each cell's copies by :func:`far_hit_in_cell`."""
     for _ in range(max_cells):
         t_out = min(ta, tb)
-        t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, 0.0, 0.0, False,
-                                       cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, ceiling)
+        t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, 0.0, 0.0, False),
+                                       cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
         if e >= 0:
             return t, e, o1, o2, 0
         if t_out >= t_limit:
@@ -166,13 +172,13 @@ def _walk_force_far(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, 
         tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
         t_out = min(ta, tb)
         if max(abs(d1), abs(d2)) < FAR_CELLS:
-            t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, True,
+            t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay, True),
                                        cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
             if e >= 0:
                 return t, e, o1, o2, 2
         else:
-            t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, True,
-                                           cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, ceiling)
+            t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay, True),
+                                           cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
             if e >= 0:
                 return t, e, o1, o2, 2
         if t_out >= t_limit:
@@ -222,7 +228,7 @@ def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
         ta, sa = _strip_exit(a0, a1, a2, d1 - 0.5, d1 + 0.5, t_in)
         tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
         t_out = min(ta, tb)
-        t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, True,
+        t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay, True),
                                    cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
         if e >= 0:
             return t, e, o1, o2, 0
@@ -270,91 +276,6 @@ def far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t):
         if n == 2:
             step = r1 if c2 > 0.0 else r2  # the exit root, as in roots.quadratic_exit
     return rx + vx * step, ry + vy * step
-
-
-@jit(inline="always")
-def flight_point_dd(x, vx, ax, t, has_force):
-    """One coordinate of the flight's point ``x + vx t + ax t^2/2`` as ``(h, l)``, exact but for ``eps^2`` of its terms.
-
-    The products are formed exactly (:func:`exact.two_prod`; ``t^2`` too) and
-    summed with :func:`exact.two_sum`, so subtracting a far translation from
-    ``h + l`` leaves a few ulps of the difference, however long the flight.
-    """
-    p, pe = two_prod(vx, t)
-    lo = pe
-    if has_force:
-        tt, te = two_prod(t, t)
-        h = 0.5 * ax
-        g, ge = two_prod(h, tt)
-        p, e = two_sum(p, g)
-        lo = ((e + pe) + ge) + h * te
-    s, e = two_sum(p, x)
-    return s, e + lo
-
-
-@jit(inline="always")
-def minus_shift_dd(h, lo, sh, sl):
-    """``(h + lo) - (sh + sl)`` rounded once: a far point seen from a far translation, to a few ulps of itself."""
-    s, e = two_sum(h, -sh)
-    return s + ((e + lo) - sl)
-
-
-@jit
-def far_hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_force,
-                    cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, ceiling):
-    """:func:`events.hit_in_cell` for a cell far from the flight's start (``FAR_CELLS`` or more).
-
-    The same copies, order, filters and ties, but each copy is solved on the
-    flight re-centred at ``t_in`` with its start relative to the copy formed
-    exactly (:func:`flight_point_dd`, :func:`exact.lattice_shift_dd`) rather
-    than as a difference of two plainly rounded lengths as long as the flight:
-    *which* copy is hit, and when, is decided to the cell's precision (a
-    flight grazing a copy to ``eps`` times its length no longer picks the
-    wrong side).  The velocity at ``t_in`` is ``v + a t_in`` (a few ulps of
-    the speed).  Not inlined: reached only by long flights.
-    """
-    xh, xl = flight_point_dd(x, vx, ax, t_in, has_force)
-    yh, yl = flight_point_dd(y, vy, ay, t_in, has_force)
-    vxi = vx
-    vyi = vy
-    if has_force:
-        vxi = vx + ax * t_in
-        vyi = vy + ay * t_in
-    xi = xh + xl
-    yi = yh + yl
-    bounded = hi < INF and has_force  # as in hit_in_cell: the Bezier hull of the arc over the window
-    bx0, by0, bx1, by1 = window_box(bounded, xi, yi, vxi, vyi, ax, ay, hi - t_in, extent_tol)
-    best_t = hi
-    best_e = -1
-    best_o1 = 0
-    best_o2 = 0
-    for k in range(copies.shape[0]):
-        e = copies[k, 0]
-        o1 = copies[k, 1] + d1
-        o2 = copies[k, 2] + d2
-        sx, sy = copy_shift(A, o1, o2, True)
-        if params[e, 1] + sy > ceiling:  # above a bounded lattice's top (circles: cy)
-            continue
-        if e == cur_e and o1 == cur_o1 and o2 == cur_o2:  # the copy just hit: deflated, from the start
-            t = element_hit_time(kinds[e], params[e], x - sx, y - sy, vx, vy, ax, ay, has_force,
-                                 True, best_t, extent_tol)
-        else:
-            if bounded:
-                ex0, ey0, ex1, ey1 = element_box(kinds[e], params[e])
-                if ex0 + sx > bx1 or ex1 + sx < bx0 or ey0 + sy > by1 or ey1 + sy < by0:
-                    continue
-            sxh, sxl, syh, syl = lattice_shift_dd(A, o1, o2)
-            t = t_in + element_hit_time(kinds[e], params[e], minus_shift_dd(xh, xl, sxh, sxl),
-                                        minus_shift_dd(yh, yl, syh, syl), vxi, vyi, ax, ay,
-                                        has_force, False, best_t - t_in, extent_tol)
-        if t < best_t or (best_e < 0 and t == best_t and t < INF):
-            best_t = t
-            best_e = e
-            best_o1 = o1
-            best_o2 = o2
-    if best_e < 0:
-        return INF, -1, 0, 0
-    return best_t, best_e, best_o1, best_o2
 
 
 @jit(inline="always")  # out of line, called around the collision loop, it cost the Galton board (specular) 10-15 %

@@ -15,11 +15,9 @@ import math
 from .geometry import (
     LINE_GATE,
     TWO_PI,
-    copy_shift,
     crossing_coefficients,
     crossing_slope,
     distance_rate,
-    element_box,
     extent_coordinate,
     extent_position,
     line_value_exact,
@@ -142,7 +140,7 @@ def starts_at_open_end(kind, p, x, y, extent_tol):
     vertex of a reflex junction just hit on the other piece (or a free end's
     tip): the element's crossing polynomial has the exact root ``t = 0`` there,
     which rounding moves to either side, and which is no collision (see
-    :func:`hit_in_cell`).
+    :func:`search.cell_search`).
     """
     band = extent_tol * NONCONVEX_END_FACTOR
     if not abs(signed_distance(kind, p, x, y)) <= band:
@@ -174,81 +172,6 @@ def window_box(bounded, xi, yi, vxi, vyi, ax, ay, span, extent_tol):
     y1 = yi + 0.5 * span * vyi
     margin = 1e-9 * (abs(xi) + abs(yi) + abs(x2) + abs(y2) + abs(x1) + abs(y1)) + extent_tol
     return min(xi, x1, x2) - margin, min(yi, y1, y2) - margin, max(xi, x1, x2) + margin, max(yi, y1, y2) + margin
-
-
-@jit(inline="always")
-def hit_in_cell(kinds, params, copies, A, d1, d2, x, y, vx, vy, ax, ay, has_force,
-                cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, shifted=True, ceiling=INF):
-    """Earliest hit in ``(0, hi]`` over the element copies that reach cell ``(d1, d2)``.
-
-    ``copies[k] = (element, o1, o2)``: element translated by ``o1 a1 + o2 a2``
-    (the columns of ``A``) relative to the cell; a plain scene has one copy per
-    element with zero offset and passes ``shifted=False`` (no shift to form).
-    The copy just hit, ``(cur_e, cur_o1, cur_o2)`` in absolute offsets, is
-    deflated on the flight from ``(x, y)``.  A bounded lattice (a Galton
-    board's top row, ``Scene.top``) passes ``ceiling``, the top relative to
-    the cell of ``(x, y)``: a copy (every element a circle) whose centre lies
-    above it does not exist and is skipped; ``inf`` (the default) skips none
-    and changes no operation of the test.  Every other
-    copy is solved on the flight re-centred at ``t_in`` (when the particle
-    enters the cell), so a long flight's crossing polynomial is formed at the
-    scale of the cell and keeps its digits.  Ties go to the earlier copy.
-
-    A segment or arc whose open end (reflex junction or free end) the flight
-    starts at, on its line or circle (:func:`starts_at_open_end`), is deflated
-    too, from ``(x, y)`` like the copy just hit (as :mod:`noslipsim.reference`
-    does): its root ``t = 0`` is exact, and the table is locally the union
-    of the two pieces' table sides, so having just reflected into the other
-    piece's side the particle is inside, whichever side of this line
-    rounding put it on.  Kept, the root is a hit
-    a rounding-sized time later inside this end's band, and the particle
-    reverses (a double hit).  Tested only for a segment or arc with an open
-    end that would be the earliest hit so far, so other flights pay a
-    comparison (closed convex polygons: the end factors, read inline) and
-    change no bit.
-    Returns ``(t, element, o1, o2)`` or ``(inf, -1, 0, 0)``.
-    """
-    xi, yi, vxi, vyi = advance(x, y, vx, vy, ax, ay, t_in, has_force)
-    # a bounded window: the arc lies in the hull of its Bezier control points, so a
-    # copy whose box misses the hull's box cannot be hit in it (straight flights
-    # skip the filter: their exit test is about as cheap)
-    bounded = hi < INF and has_force
-    bx0, by0, bx1, by1 = window_box(bounded, xi, yi, vxi, vyi, ax, ay, hi - t_in, extent_tol)
-    best_t = hi
-    best_e = -1
-    best_o1 = 0
-    best_o2 = 0
-    for k in range(copies.shape[0]):
-        e = copies[k, 0]
-        o1 = copies[k, 1] + d1
-        o2 = copies[k, 2] + d2
-        sx, sy = copy_shift(A, o1, o2, shifted)
-        if params[e, 1] + sy > ceiling:  # above a bounded lattice's top: no such copy (circles: cy)
-            continue
-        if e == cur_e and o1 == cur_o1 and o2 == cur_o2:
-            t = element_hit_time(kinds[e], params[e], x - sx, y - sy, vx, vy, ax, ay, has_force,
-                                 True, best_t, extent_tol)
-        else:
-            if bounded:
-                ex0, ey0, ex1, ey1 = element_box(kinds[e], params[e])
-                if ex0 + sx > bx1 or ex1 + sx < bx0 or ey0 + sy > by1 or ey1 + sy < by0:
-                    continue
-            t = t_in + element_hit_time(kinds[e], params[e], xi - sx, yi - sy, vxi, vyi, ax, ay,
-                                        has_force, False, best_t - t_in, extent_tol)
-            if (t <= best_t and t < INF and (kinds[e] == SEGMENT or kinds[e] == ARC)
-                    and (params[e, END_START] < 1.0 or params[e, END_END] < 1.0)
-                    and starts_at_open_end(kinds[e], params[e], x - sx, y - sy, extent_tol)):
-                # the root t = 0 at an open end is exact: no collision (docstring; docs/algorithm.md, step 4)
-                t = element_hit_time(kinds[e], params[e], x - sx, y - sy, vx, vy, ax, ay, has_force,
-                                     True, best_t, extent_tol)
-        if t < best_t or (best_e < 0 and t == best_t and t < INF):
-            best_t = t
-            best_e = e
-            best_o1 = o1
-            best_o2 = o2
-    if best_e < 0:
-        return INF, -1, 0, 0
-    return best_t, best_e, best_o1, best_o2
 
 
 @jit

@@ -9,7 +9,7 @@ quadratic in the tangent half-angle is the one a line's distance has
 """
 import math
 
-from .geometry import extent_position
+from .geometry import copy_shift, extent_position
 from .jit import jit
 from .layout import ARC, LINE, SEGMENT
 from .magnetic import (
@@ -22,14 +22,16 @@ from .magnetic import (
     root_position,
     zeta_time,
 )
+from .search import leading_point, reach_box, same_flight
 
 INF = math.inf
+#: The search is compiled once, called per cell.
+INLINE = False
+#: Every exit is one closed-form root: nothing gives up.
+GIVES_UP = False
 
 
-@jit(inline="always")
-def start(F):
-    """``(x, y)`` at the collision."""
-    return F[0], F[1]
+start = leading_point
 
 
 @jit(inline="always")
@@ -38,10 +40,7 @@ def state_at(F, t):
     return advance(F[0], F[1], F[2], F[3], F[4], t)
 
 
-@jit(inline="always")
-def speed_bound(F):
-    """The speed, kept in flight."""
-    return math.hypot(F[2], F[3])
+at_start = same_flight
 
 
 @jit(inline="always")
@@ -53,9 +52,22 @@ def window(F, lo):
     return x, y, vx, vy, F[4]
 
 
+@jit(inline="always")
+def window_box(F, G, lo, hi, extent_tol):
+    """A bounded window: the box the path, at its constant speed, cannot leave from where the window opens."""
+    bounded = hi < INF
+    bx0 = by0 = bx1 = by1 = 0.0
+    if bounded:
+        bx0, by0, bx1, by1 = reach_box(G[0], G[1], math.hypot(F[2], F[3]), hi - lo, extent_tol)
+    return bounded, bx0, by0, bx1, by1
+
+
+shift = copy_shift
+
+
 @jit
-def element_exit(kind, p, G, sx, sy, deflate, lo, hi, extent_tol):
-    """The exit root in ``(lo, hi]`` through the element copy shifted by ``(sx, sy)``, within its extent, or inf.
+def element_exit(kind, p, G, S, deflate, lo, hi, extent_tol):
+    """The exit root in ``(lo, hi]`` through the element copy shifted by ``S[:2]``, within its extent, or inf.
 
     ``G`` is the state at ``lo`` (:func:`window`; ``deflate`` only with ``lo = 0``): the next exit after
     ``lo``, as a closed path meets an element at one root per period.  Copies the path cannot reach
@@ -63,8 +75,8 @@ def element_exit(kind, p, G, sx, sy, deflate, lo, hi, extent_tol):
     exit's time and point are formed: the cell search passes the earliest hit so far as ``hi``.
     """
     x, y, vx, vy, W = G
-    x -= sx
-    y -= sy
+    x -= S[0]
+    y -= S[1]
     if not deflate and hi < INF:  # |q(t) - q(lo)| <= c (t - lo): no hit before the distance is flown
         if kind == LINE or kind == SEGMENT:
             gap = (x - p[0]) * p[2] + (y - p[1]) * p[3]

@@ -1,38 +1,47 @@
-"""The event search of a closed-form flight, written once: the earliest hit in a cell, the cell walk, a long wall.
+"""The event search of a flight, written once: the earliest hit in a cell, the cell walk, a long wall.
 
-A *flight* is a module that answers seven questions about the path from one
-collision to the next, each a small kernel taking the flight's state ``F``
-(a tuple the module builds; it is never inspected here):
+A *flight* is a module that answers a few questions about the path from one collision to the next,
+each a small kernel taking the flight's state ``F`` (a tuple the module builds; it is never
+inspected here).  The cell search (:func:`cell_search`) asks:
 
 =================================================  ==========================================================
 ``start(F)``                                        ``(x, y)`` at ``t = 0``
-``state_at(F, t)``                                  ``(x, y, vx, vy)`` at time ``t``
-``speed_bound(F)``                                  a bound on the speed over the flight (the reach filter)
+``at_start(F)``                                     the flight as ``element_exit`` takes it from ``t = 0``
 ``window(F, lo)``                                   the flight as ``element_exit`` takes it for a window
-                                                    opening at ``lo`` (formed once per cell)
-``element_exit(kind, p, G, sx, sy, deflate,         the first exit root in ``(lo, hi]`` through the element
-lo, hi, extent_tol)``                               copy shifted by ``(sx, sy)``, within its extent, of the
-                                                    flight ``G = window(F, lo)``; ``inf`` for none, a negative
-                                                    time when the search gave up
+                                                    opening at ``lo`` (formed once per cell), of
+                                                    ``at_start``'s type
+``window_box(F, G, lo, hi, extent_tol)``            ``(bounded, x0, y0, x1, y1)``: a box the path cannot
+                                                    leave over ``(lo, hi]`` (copies outside it are skipped),
+                                                    or ``bounded`` false for no filter
+``shift(A, o1, o2, shifted)``                       the copy's translation ``S``, ``S[:2]`` its plain value
+``element_exit(kind, p, G, S, deflate, lo, hi,      the first exit root in ``(lo, hi]`` through the element
+extent_tol)``                                       copy shifted by ``S``, within its extent; ``inf`` for
+                                                    none, a negative time when the search gave up
+``INLINE``, ``GIVES_UP``                            constants: inline the search at its call sites; may
+                                                    ``element_exit`` give up
+=================================================  ==========================================================
+
+The closed-form flights' walk and long-wall hit (:func:`event_search`) ask three more:
+
+=================================================  ==========================================================
+``state_at(F, t)``                                  ``(x, y, vx, vy)`` at time ``t``
 ``face_exit(F, f0, nx, ny, t_in)``                  the first time ``>= t_in`` at which ``f0 + n . (q(t) - q(0))``
                                                     (positive inside) leaves; ``t_in`` when on or past it and
                                                     moving out
 ``line_exit(F, f0, nx, ny)``                        the first exit root in ``(0, inf)`` of that function
 =================================================  ==========================================================
 
-:func:`event_search` builds, for one flight, the cell search (:func:`hit_in_cell`'s rules: the copy
-just hit deflated, a segment or arc whose open end the flight starts at deflated too, copies out of
-reach skipped, ties to the earlier copy), the lattice walk (each strip's exit a ``face_exit``) and the
-exact hit on a long wall.  The thermostat (:mod:`thermo_events`) and the magnetic field
-(:mod:`magnetic_flight`) are such flights; the polynomial flights (straight and free fall) keep their
-own tuned search (:mod:`events`, :mod:`cells`), whose windows are re-centred at each cell's entry time
-(docs/extending.md, "A flight").
+Free flight (:mod:`free_flight`, and :mod:`far_flight` for cells far from the start), the
+thermostat (:mod:`thermo_flight`) and the magnetic field (:mod:`magnetic_flight`) are such flights.
+Free flight keeps its own tuned cell walks (:mod:`cells`: an incremental grid walk without force,
+faces from one quadratic each with it) and long-wall hit (:func:`events.exact_line_hit`); each
+cell's copies it searches with :func:`cell_search` (docs/extending.md, "A flight").
 """
 import functools
 import math
 
 from .events import starts_at_open_end
-from .geometry import LINE_GATE, copy_shift, element_box, lattice_coordinates, line_value_exact
+from .geometry import LINE_GATE, element_box, lattice_coordinates, line_value_exact
 from .jit import jit
 from .layout import ARC, END_END, END_START, SEGMENT
 
@@ -43,44 +52,78 @@ SEARCH_FAILED = -2
 GAVE_UP = -1.0
 
 
-@functools.cache
-def event_search(flight, compile=jit):
-    """``(hit_in_cell, walk_hit, exact_line_hit)`` for the flight module ``flight`` (built once per flight).
+@jit(inline="always")
+def leading_point(F):
+    """``start`` for a flight whose state opens with ``(x, y)``."""
+    return F[0], F[1]
 
-    ``compile``: how each is compiled (:func:`jit.jit`; the identity gives their Python source, calling
-    the flight's functions as they are, for tests that patch a flight's constants).
 
-    ``hit_in_cell(kinds, params, copies, A, d1, d2, F, cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, shifted)``:
-    the earliest hit in ``(t_in, hi]`` over the copies that reach cell ``(d1, d2)``; ``(t, element, o1, o2)``,
-    ``(inf, -1, 0, 0)`` or ``(GAVE_UP, SEARCH_FAILED, 0, 0)``.
+@jit(inline="always")
+def same_flight(F):
+    """``at_start`` for a flight that ``element_exit`` takes from ``t = 0`` as it is."""
+    return F
 
-    ``walk_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells)``: the
-    earliest hit in a periodic scene; ``(t, element, o1, o2, status)``, status 0 hit, 1 past ``t_limit``,
-    2 past ``max_cells`` cells, 3 a search gave up.
 
-    ``exact_line_hit(kind, p, F, sx, sy, deflated, t, hx, hy, px, py, vx, vy)``: a hit far along a long wall
-    redone from the exact distances (:func:`events.exact_line_hit`); ``(t, px, py, vx, vy)``.
+@jit(inline="always")
+def reach_box(xi, yi, speed, span, extent_tol):
+    """The box a path from ``(xi, yi)`` at most ``speed`` fast cannot leave in ``span`` (a flight's ``window_box``)."""
+    reach = speed * span * (1.0 + 1e-9) + extent_tol
+    return xi - reach, yi - reach, xi + reach, yi + reach
+
+
+@jit(inline="always")
+def box_missed(kind, p, S, bx0, by0, bx1, by1):
+    """True if the element copy shifted by ``S`` lies outside the box (it cannot be hit in the window)."""
+    ex0, ey0, ex1, ey1 = element_box(kind, p)
+    return ex0 + S[0] > bx1 or ex1 + S[0] < bx0 or ey0 + S[1] > by1 or ey1 + S[1] < by0
+
+
+@jit(inline="always")
+def open_end_start(kind, p, t, best_t, x, y, extent_tol):
+    """True if a hit at ``t`` (the earliest so far) is the exact root ``t = 0`` at an open end the flight starts at.
+
+    Such a segment or arc is deflated (:func:`hit_in_cell`'s rule).  Tested only for a copy that would be
+    the earliest hit, with an open end, so closed convex tables pay two comparisons and change no bit.
     """
-    start = flight.start
-    state_at = flight.state_at
-    speed_bound = flight.speed_bound
-    window = flight.window
-    element_exit = flight.element_exit
-    face_exit = flight.face_exit
-    line_exit = flight.line_exit
+    return (0.0 <= t <= best_t and t < INF and (kind == SEGMENT or kind == ARC)
+            and (p[END_START] < 1.0 or p[END_END] < 1.0)
+            and starts_at_open_end(kind, p, x, y, extent_tol))
 
+
+@functools.cache
+def cell_search(flight, compile=jit):
+    """The earliest hit over a cell's element copies for the flight module ``flight`` (built once per flight).
+
+    ``hit_in_cell(kinds, params, copies, A, d1, d2, F, cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, shifted,
+    ceiling=inf)``: the earliest hit in ``(t_in, hi]`` (the copy just hit, ``(cur_e, cur_o1, cur_o2)`` in
+    absolute offsets, from ``t = 0`` with its root there deflated) over the copies ``copies[k] = (element,
+    o1, o2)`` (element translated by ``o1 a1 + o2 a2``, the columns of ``A``, relative to cell ``(d1, d2)``;
+    a plain scene lists each element once and passes ``shifted=False``).  A bounded lattice (a Galton
+    board's top row) passes ``ceiling``, the top relative to the start's cell: a copy (every element a
+    circle) whose centre lies above it does not exist.  A segment or arc whose open end (reflex junction
+    or free end) the flight starts at is deflated too (:func:`open_end_start`): its root ``t = 0`` is
+    exact and no collision; kept, it would be a hit a rounding-sized time later and reverse the
+    particle (docs/algorithm.md, step 4).  Ties go to the earlier copy.  Returns ``(t, element, o1,
+    o2)``, ``(inf, -1, 0, 0)``, or ``(GAVE_UP, SEARCH_FAILED, 0, 0)`` when a flight's search gave up.
+
+    ``compile``: how it is compiled (:func:`jit.jit`, inlined where the flight says ``INLINE``; the
+    identity gives its Python source).
+    """
+    if compile is jit and flight.INLINE:
+        compile = functools.partial(jit, inline="always")
+    return _hit_in_cell(flight.start, flight.at_start, flight.window, flight.window_box, flight.shift,
+                        flight.element_exit, flight.GIVES_UP, compile)
+
+
+def _hit_in_cell(start, at_start, window, window_box, shift, element_exit, gives_up, compile):
+    """:func:`cell_search`'s kernel over one flight's functions."""
     @compile
-    def hit_in_cell(kinds, params, copies, A, d1, d2, F, cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, shifted):
-        bounded = hi < INF
-        xi = 0.0
-        yi = 0.0
-        reach = INF
-        if bounded:  # the path cannot get farther than speed x window from where it enters
-            xi, yi = state_at(F, t_in)[:2]
-            reach = speed_bound(F) * (hi - t_in) * (1.0 + 1e-9) + extent_tol
+    def hit_in_cell(kinds, params, copies, A, d1, d2, F, cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, shifted,
+                    ceiling=INF):
         x0, y0 = start(F)
-        G0 = window(F, 0.0)
+        G0 = at_start(F)
         G = window(F, t_in)  # the flight where the window opens: once per cell, not per copy
+        bounded, bx0, by0, bx1, by1 = window_box(F, G, t_in, hi, extent_tol)
         best_t = hi
         best_e = -1
         best_o1 = 0
@@ -89,22 +132,18 @@ def event_search(flight, compile=jit):
             e = copies[k, 0]
             o1 = copies[k, 1] + d1
             o2 = copies[k, 2] + d2
-            sx, sy = copy_shift(A, o1, o2, shifted)
+            S = shift(A, o1, o2, shifted)
+            if params[e, 1] + S[1] > ceiling:  # above a bounded lattice's top: no such copy (circles: cy)
+                continue
             if e == cur_e and o1 == cur_o1 and o2 == cur_o2:
-                t = element_exit(kinds[e], params[e], G0, sx, sy, True, 0.0, best_t, extent_tol)
+                t = element_exit(kinds[e], params[e], G0, S, True, 0.0, best_t, extent_tol)
             else:
-                if bounded:
-                    ex0, ey0, ex1, ey1 = element_box(kinds[e], params[e])
-                    if (ex0 + sx > xi + reach or ex1 + sx < xi - reach
-                            or ey0 + sy > yi + reach or ey1 + sy < yi - reach):
-                        continue
-                t = element_exit(kinds[e], params[e], G, sx, sy, False, t_in, best_t, extent_tol)
-                if (0.0 <= t <= best_t and t < INF and (kinds[e] == SEGMENT or kinds[e] == ARC)
-                        and (params[e, END_START] < 1.0 or params[e, END_END] < 1.0)
-                        and starts_at_open_end(kinds[e], params[e], x0 - sx, y0 - sy, extent_tol)):
-                    # the root t = 0 at an open end is exact: no collision (events.hit_in_cell)
-                    t = element_exit(kinds[e], params[e], G0, sx, sy, True, 0.0, best_t, extent_tol)
-            if t < 0.0:  # a search gave up: the earliest hit is unknown
+                if bounded and box_missed(kinds[e], params[e], S, bx0, by0, bx1, by1):
+                    continue
+                t = element_exit(kinds[e], params[e], G, S, False, t_in, best_t, extent_tol)
+                if open_end_start(kinds[e], params[e], t, best_t, x0 - S[0], y0 - S[1], extent_tol):
+                    t = element_exit(kinds[e], params[e], G0, S, True, 0.0, best_t, extent_tol)
+            if gives_up and t < 0.0:  # a search gave up: the earliest hit is unknown
                 return GAVE_UP, SEARCH_FAILED, 0, 0
             if t < best_t or (best_e < 0 and t == best_t and t < INF):
                 best_t = t
@@ -115,6 +154,32 @@ def event_search(flight, compile=jit):
             return INF, -1, 0, 0
         return best_t, best_e, best_o1, best_o2
 
+    return hit_in_cell
+
+
+@functools.cache
+def event_search(flight, compile=jit):
+    """``(hit_in_cell, walk_hit, exact_line_hit)`` for the closed-form flight module ``flight`` (built once).
+
+    ``hit_in_cell``: :func:`cell_search`'s.
+
+    ``walk_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells)``: the
+    earliest hit in a periodic scene; ``(t, element, o1, o2, status)``, status 0 hit, 1 past ``t_limit``,
+    2 past ``max_cells`` cells, 3 a search gave up.
+
+    ``exact_line_hit(kind, p, F, sx, sy, deflated, t, hx, hy, px, py, vx, vy)``: a hit far along a long wall
+    redone from the exact distances (:func:`events.exact_line_hit`); ``(t, px, py, vx, vy)``.
+
+    ``compile``: how each is compiled (:func:`jit.jit`; the identity gives their Python source, calling
+    the flight's functions as they are, for tests that patch a flight's constants).
+    """
+    hit_in_cell = cell_search(flight, compile)
+    strip_exit = _strip_exit(flight.face_exit, compile)
+    return (hit_in_cell, _walk_hit(flight.start, hit_in_cell, strip_exit, compile),
+            _exact_line_hit(flight.start, flight.state_at, flight.line_exit, compile))
+
+
+def _strip_exit(face_exit, compile):
     @compile
     def strip_exit(F, alpha0, bx, by, d, t_in):
         """First time ``>= t_in`` the lattice coordinate ``alpha0 + b . (q(t) - q(0))`` leaves ``[d - 1/2, d + 1/2]``:
@@ -127,6 +192,10 @@ def event_search(flight, compile=jit):
             return t_dn, -1
         return INF, 0
 
+    return strip_exit
+
+
+def _walk_hit(start, hit_in_cell, strip_exit, compile):
     @compile
     def walk_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells):
         x0, y0 = start(F)
@@ -155,6 +224,10 @@ def event_search(flight, compile=jit):
             t_in = t_out
         return INF, -1, 0, 0, 2
 
+    return walk_hit
+
+
+def _exact_line_hit(start, state_at, line_exit, compile):
     @compile
     def exact_line_hit(kind, p, F, sx, sy, deflated, t, hx, hy, px, py, vxi, vyi):
         # hx, hy: the hit point relative to the copy; px, py: its plain projection (events.exact_line_hit)
@@ -180,4 +253,4 @@ def event_search(flight, compile=jit):
         d = line_value_exact(kind, p, hx, hy)
         return t, hx - d * nx, hy - d * ny, vxi, vyi
 
-    return hit_in_cell, walk_hit, exact_line_hit
+    return exact_line_hit

@@ -5,13 +5,19 @@ field's strength; every answer is one of :mod:`thermo_events`, which certifies i
 """
 import math
 
+from .geometry import copy_shift
 from .jit import jit
+from .search import reach_box
 from .thermo_events import element_hit
 from .thermo_events import face_exit as _face_exit
 from .thermo_events import line_exit as _line_exit
 from .thermostat import state
 
 INF = math.inf
+#: The search is compiled once, called per cell (its circle search is long).
+INLINE = False
+#: A circle's search may run out of steps (:data:`search.GAVE_UP`).
+GIVES_UP = True
 
 
 @jit(inline="always")
@@ -27,21 +33,35 @@ def state_at(F, t):
 
 
 @jit(inline="always")
-def speed_bound(F):
-    """The speed, kept in flight."""
-    return F[0][4]
-
-
-@jit(inline="always")
 def window(F, lo):
     """The path itself: its exits are solved from the collision over ``(lo, hi]``."""
     return F
 
 
 @jit(inline="always")
-def element_exit(kind, p, F, sx, sy, deflate, lo, hi, extent_tol):
+def at_start(F):
+    """The path itself."""
+    return F
+
+
+@jit(inline="always")
+def window_box(F, G, lo, hi, extent_tol):
+    """A bounded window: the box the path, at its constant speed, cannot leave from where the window opens."""
+    bounded = hi < INF
+    bx0 = by0 = bx1 = by1 = 0.0
+    if bounded:
+        xi, yi = state(F[0], lo)[:2]
+        bx0, by0, bx1, by1 = reach_box(xi, yi, F[0][4], hi - lo, extent_tol)
+    return bounded, bx0, by0, bx1, by1
+
+
+shift = copy_shift
+
+
+@jit(inline="always")
+def element_exit(kind, p, F, S, deflate, lo, hi, extent_tol):
     """:func:`thermo_events.element_hit` (``GAVE_UP`` when a circle search ran out of steps)."""
-    return element_hit(kind, p, F[0], sx, sy, deflate, lo, hi, extent_tol, F[1])
+    return element_hit(kind, p, F[0], S[0], S[1], deflate, lo, hi, extent_tol, F[1])
 
 
 @jit(inline="always")
