@@ -13,3 +13,15 @@ def test_ruff_reports_no_finding():
                           capture_output=True, text=True)
     assert proc.returncode == 0, f"ruff findings (fix them, or say in pyproject why a rule does not apply):\n" \
                                  f"{proc.stdout[-4000:]}{proc.stderr[-2000:]}"
+
+
+#: Core modules whose every function keeps McCabe complexity <= 15 (issue 32: small named steps).
+SIMPLE_CORE = ["src/noslipsim/core/disks.py", "src/noslipsim/core/roots.py", "src/noslipsim/core/thermo_events.py"]
+
+
+def test_core_functions_are_small():
+    ruff = shutil.which("ruff") or str(Path(sys.executable).with_name("ruff"))
+    proc = subprocess.run([ruff, "check", "--no-cache", "--output-format", "concise", "--select", "C901",
+                           "--config", "lint.mccabe.max-complexity=15", *SIMPLE_CORE], cwd=ROOT,
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, f"functions too complex (split them into named steps):\n{proc.stdout[-4000:]}"

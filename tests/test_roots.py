@@ -30,12 +30,15 @@ import pytest
 from naive import naive_all_real_roots, naive_exit_roots, naive_real_roots, naive_roots_between
 
 from noslipsim.core.roots import (
+    bracket_step,
     cubic_exits,
     cubic_roots_in,
     linear_exit,
     quadratic_exit,
     quadratic_roots,
     quartic_exits,
+    secant_start,
+    straight_circle_exit,
 )
 
 INF = math.inf
@@ -491,3 +494,97 @@ def test_exact_rescaling_is_bitwise_invariant(degree):
             if got != want:
                 bad.append((f"t * 2^{j}", c, hi, want, got))
     assert not bad, f"{len(bad)} rescaled cases differ, first (what, coeffs, hi, expected, got): {bad[:3]}"
+
+
+# ---------------------------------------------------------------------------- the shared pieces
+
+
+def test_secant_start_is_regula_falsi_or_the_midpoint():
+    """The start of every polish: the regula falsi point inside the open bracket, else its midpoint."""
+    assert secant_start(1.0, 3.0, 1.0, -1.0) == 2.0
+    assert secant_start(0.0, 4.0, 3.0, -1.0) == 3.0
+    # fb = -0 and fa tiny: the secant lands on b, not inside the open bracket
+    assert secant_start(1.0, 2.0, 1e-300, -0.0) == 1.5
+
+
+@pytest.mark.parametrize("sa", [True, False])
+def test_bracket_step_keeps_the_sign_change_and_takes_newton_inside(sa):
+    """``t`` replaces the end of its sign; the Newton iterate is taken inside the new bracket."""
+    s = 1.0 if sa else -1.0  # f = s (2 - t) on [1, 3]: f(a) > 0 iff sa
+    a, b, tn, done = bracket_step(1.0, 3.0, 1.5, s * 0.5, -s, sa)
+    assert (a, b, tn, done) == (1.5, 3.0, 2.0, False)
+    a, b, tn, done = bracket_step(1.0, 3.0, 2.5, -s * 0.5, -s, sa)
+    assert (a, b, tn, done) == (1.0, 2.5, 2.0, False)
+
+
+def test_bracket_step_bisects_where_newton_leaves_the_bracket_or_stalls():
+    """A Newton iterate outside the bracket, or a zero derivative, gives the bisection point."""
+    assert bracket_step(0.0, 4.0, 1.0, 1.0, -0.01, True) == (1.0, 4.0, 2.5, False)  # Newton: 101
+    assert bracket_step(0.0, 4.0, 1.0, 1.0, 0.0, True) == (1.0, 4.0, 2.5, False)
+
+
+def test_bracket_step_stops_at_a_zero_and_at_rounding():
+    """An exact zero is the root; a step or a bracket down to rounding is done."""
+    assert bracket_step(0.0, 4.0, 1.25, 0.0, -1.0, True) == (0.0, 4.0, 1.25, True)
+    t = 1.0 + 2.0 ** -52
+    _, _, tn, done = bracket_step(0.0, 4.0, t, 2.0 ** -52, -1.0, True)  # Newton: 1 + 2^-51
+    assert done and tn == 1.0 + 2.0 ** -51
+    a, b, tn, done = bracket_step(1.0, 1.0 + 2.0 ** -51, 1.0 + 2.0 ** -52, 1.0, -1e-300, True)
+    assert done and (a, b) == (1.0 + 2.0 ** -52, 1.0 + 2.0 ** -51)
+
+
+def exact_circle_exit(d, v, sig, r):
+    """The exit time of the exact straight flight ``d + v t`` (float inputs taken exactly) from the circle."""
+    with mpmath.workprec(300):
+        dx, dy, vx, vy, r = (mpmath.mpf(u) for u in (*d, *v, r))
+        a = vx * vx + vy * vy
+        b = 2 * (dx * vx + dy * vy)
+        c = dx * dx + dy * dy - r * r
+        disc = b * b - 4 * a * c
+        if disc <= 0:
+            return INF
+        ts = sorted([(-b - mpmath.sqrt(disc)) / (2 * a), (-b + mpmath.sqrt(disc)) / (2 * a)])
+        t = ts[0] if sig > 0 else ts[1]  # outside the circle: entering it; inside: leaving it
+        return float(t) if t > 0 else INF
+
+
+@pytest.mark.parametrize("sig", [1.0, -1.0])
+def test_straight_circle_exit_matches_the_exact_intersection(sig):
+    """Random straight flights from outside (``sig = 1``) or inside (``sig = -1``) a circle: the exit is the
+    exact line-circle intersection, to the rounding of a well-conditioned root."""
+    rng = np.random.default_rng(seed_of("straight circle", sig))
+    worst, hits = 0.0, 0
+    for _ in range(400):
+        r = loguni(rng, -2, 2)
+        ang, speed = rng.uniform(0, 2 * math.pi), loguni(rng, -2, 2)
+        dist = r * (rng.uniform(1.05, 5.0) if sig > 0 else rng.uniform(0.0, 0.95))
+        d = (dist * math.cos(ang), dist * math.sin(ang))
+        aim = ang + math.pi + rng.normal(0, 0.4 if sig > 0 else 2.0)
+        v = (speed * math.cos(aim), speed * math.sin(aim))
+        want = exact_circle_exit(d, v, sig, r)
+        got = straight_circle_exit(d[0], d[1], v[0], v[1], sig, r, False, INF)
+        if want == INF or got == INF:
+            # only near-tangent flights may disagree on whether they hit
+            miss = abs(d[0] * v[1] - d[1] * v[0]) / speed
+            assert got == want or abs(miss - r) <= 1e-6 * r, (d, v, sig, r, want, got)
+            continue
+        hits += 1
+        worst = max(worst, abs(got - want) / want)
+    assert hits > 100
+    assert worst <= REL_TOL
+
+
+@pytest.mark.parametrize("sig, inward, expected", [(-1.0, True, "chord"), (-1.0, False, "none"),
+                                                   (1.0, False, "none")])
+def test_straight_circle_exit_after_a_hit(sig, inward, expected):
+    """Just hit at ``t = 0`` (deflated): from inside, the chord's other end ``-2 d.v / |v|^2``; a flight
+    leaving the circle outward, or one outside moving away, never meets it again."""
+    d = (0.6, 0.8)
+    v = (-0.3, -0.5) if inward else (0.3, 0.5)
+    got = straight_circle_exit(d[0], d[1], v[0], v[1], sig, 1.0, True, INF)
+    if expected == "none":
+        assert got == INF
+    else:
+        want = -2.0 * (d[0] * v[0] + d[1] * v[1]) / (v[0] * v[0] + v[1] * v[1])
+        assert got == pytest.approx(want, rel=1e-15)
+        assert straight_circle_exit(d[0], d[1], v[0], v[1], sig, 1.0, True, 0.5 * want) == INF

@@ -343,6 +343,92 @@ def _disks_walk_far(params, copies, inside, A, x, y, vx, vy, vv, ivv, cur_e, cur
     return INF, 0, 0, -1, 0.0, 0.0, 2
 
 
+@jit(inline="always")  # inlined, as every step of the loop below: they sit on its chain of dependent arithmetic
+def _flight_limit(A, m1, m2, y, vy, stop_below, remaining):
+    """``(t_level, oy, limit)``: the time to the stop level (inf: none), the cell's offset in y, the flight's bound."""
+    t_level = INF
+    oy = 0.0
+    if stop_below > -INF:
+        oy = lattice_shift(A, m1, m2)[1]
+        t_level = linear_exit(y + oy - stop_below, vy, INF)
+    return t_level, oy, min(remaining, t_level)
+
+
+@jit(inline="always")
+def _flight_stop(x, y, vx, vy, t, t_hit, status, t_level, oy, stop_below, remaining, limit, max_time):
+    """``(stop, x, y, t)``: the orbit's stop before the hit (``STOP_MAX_COLLISIONS``: none, the state unchanged)."""
+    if t_level < INF and t_level <= t_hit and t_level <= remaining:
+        return STOP_LEVEL, x + t_level * vx, stop_below - oy, t + t_level
+    if status == 2 or (status == 1 and limit == INF):
+        return STOP_ESCAPE, x, y, t
+    if status != 0 or t_hit > remaining:
+        return STOP_MAX_TIME, x + remaining * vx, y + remaining * vy, max_time
+    return STOP_MAX_COLLISIONS, x, y, t
+
+
+@jit(inline="always")
+def _rebase(A, B, x, y, o1, o2, cur_o1, cur_o2):
+    """``(x, y, o1, o2, cur_o1, cur_o2)`` with the hit point of a disk reaching into other cells re-based onto the
+    cell that holds it."""
+    if cur_o1 != 0 or cur_o2 != 0:
+        sx, sy = lattice_shift(A, cur_o1, cur_o2)
+        x += sx
+        y += sy
+    k1, k2 = nearest_cell(B, x, y)
+    if k1 != 0 or k2 != 0:
+        sx, sy = lattice_shift(A, k1, k2)
+        x -= sx
+        y -= sy
+        o1 += k1
+        o2 += k2
+        cur_o1 -= k1
+        cur_o2 -= k2
+    return x, y, o1, o2, cur_o1, cur_o2
+
+
+@jit(inline="always")
+def _disk_normal(hx, hy, ir):
+    """``n = -h/|h|`` with no division or square root waiting on ``h``.
+
+    With ``a = h/r`` and ``g = |a|^2 - 1`` (a few ulps; by fma, so nothing is
+    rounded at 1), ``h/|h| = a (1 - g/2)`` to ``g^2``, and the correction
+    enters each component before its one rounding (docs/algorithm.md
+    section 0).
+    """
+    ax_ = hx * ir
+    ay_ = hy * ir
+    g = fma(ax_, ax_, fma(ay_, ay_, -1.0))
+    if abs(g) < NEWTON_DELTA:
+        hg = 0.5 * g
+        return -fma(hx, ir, -hg * ax_), -fma(hy, ir, -hg * ay_)
+    # a hit point far off the circle (the end of a very long flight)
+    irho = 1.0 / math.sqrt(hx * hx + hy * hy)
+    return -hx * irho, -hy * irho
+
+
+@jit(inline="always")
+def _disk_reflect(vx, vy, hx, hy, ir2):
+    """``v`` reflected in the line through ``h``; ``1/|h|^2`` one Newton step from ``1/r^2``."""
+    hh = hx * hx + hy * hy
+    delta = hh * ir2 - 1.0
+    ihh = ir2 * (1.0 - delta) if abs(delta) < NEWTON_DELTA else 1.0 / hh
+    k = 2.0 * (vx * hx + vy * hy) * ihh
+    return vx - k * hx, vy - k * hy
+
+
+@jit(inline="always")
+def _record_disk_hit(mode, rec, n_rec, mask, A, m1, m2, cur_o1, cur_o2, t, x, y, vx, vy, w, vx_in, vy_in, w_in, p,
+                     e, nx, ny):
+    """:func:`records.record` of a collision with disk ``e`` of cell ``(cur_o1, cur_o2)`` (from cell ``(m1, m2)``)."""
+    ox, oy = lattice_shift(A, m1, m2)
+    sx = 0.0
+    sy = 0.0
+    if cur_o1 != 0 or cur_o2 != 0:
+        sx, sy = lattice_shift(A, cur_o1, cur_o2)
+    return record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w, vx_in, vy_in, w_in, CIRCLE, p, sx, sy,
+                  e, 0.0, nx, ny)
+
+
 @functools.cache
 def disk_lattice_kernel(spin=None, mode=None):
     """The event loop for disk scatterers on a lattice without force, with :func:`loop.run_orbit`'s signature.
@@ -423,12 +509,7 @@ def _disk_loop(spin, mode, one):
         while True:
             while n < block_end:
                 remaining = max_time - t
-                t_level = INF
-                oy = 0.0
-                if stop_below > -INF:
-                    oy = lattice_shift(A, m1, m2)[1]
-                    t_level = linear_exit(y + oy - stop_below, vy, INF)
-                limit = min(remaining, t_level)
+                t_level, oy, limit = _flight_limit(A, m1, m2, y, vy, stop_below, remaining)
                 if ONE:
                     t_hit, o1, o2, hx, hy, status = disk_walk(params[e0], A, B, x, y, vx, vy, cur_o1, cur_o2, limit,
                                                               MAX_CELLS_PER_FLIGHT)
@@ -436,20 +517,9 @@ def _disk_loop(spin, mode, one):
                 else:
                     t_hit, o1, o2, j, hx, hy, status = disks_walk(params, copies, inside, A, B, x, y, vx, vy, cur_e,
                                                                   cur_o1, cur_o2, limit, MAX_CELLS_PER_FLIGHT)
-                if t_level < INF and t_level <= t_hit and t_level <= remaining:
-                    x = x + t_level * vx
-                    y = stop_below - oy
-                    t += t_level
-                    stop = STOP_LEVEL
-                    break
-                if status == 2 or (status == 1 and limit == INF):
-                    stop = STOP_ESCAPE
-                    break
-                if status != 0 or t_hit > remaining:
-                    x = x + remaining * vx
-                    y = y + remaining * vy
-                    t = max_time
-                    stop = STOP_MAX_TIME
+                stop, x, y, t = _flight_stop(x, y, vx, vy, t, t_hit, status, t_level, oy, stop_below, remaining, limit,
+                                             max_time)
+                if stop != STOP_MAX_COLLISIONS:
                     break
                 # the particle is now at c + h, relative to walk cell (o1, o2), on the disk of element e
                 # in cell (o1 + cur_o1, o2 + cur_o2)
@@ -468,19 +538,7 @@ def _disk_loop(spin, mode, one):
                 y = p[1] + hy
                 # a disk reaching into other cells: re-base onto the cell that holds the hit point
                 if not ONE and not inside:
-                    if cur_o1 != 0 or cur_o2 != 0:
-                        sx, sy = lattice_shift(A, cur_o1, cur_o2)
-                        x += sx
-                        y += sy
-                    k1, k2 = nearest_cell(B, x, y)
-                    if k1 != 0 or k2 != 0:
-                        sx, sy = lattice_shift(A, k1, k2)
-                        x -= sx
-                        y -= sy
-                        o1 += k1
-                        o2 += k2
-                        cur_o1 -= k1
-                        cur_o2 -= k2
+                    x, y, o1, o2, cur_o1, cur_o2 = _rebase(A, B, x, y, o1, o2, cur_o1, cur_o2)
                 cur_e = e
                 m1 += o1
                 m2 += o2
@@ -490,39 +548,16 @@ def _disk_loop(spin, mode, one):
                 nx = 0.0
                 ny = 0.0
                 if law == NOSLIP or mode == RECORD_PORTRAIT:
-                    # n = -h/|h| with no division or square root waiting on h: with a = h/r and g = |a|^2 - 1
-                    # (a few ulps; by fma, so nothing is rounded at 1), h/|h| = a (1 - g/2) to g^2, and the
-                    # correction enters each component before its one rounding (docs/algorithm.md section 0)
-                    ax_ = hx * ir
-                    ay_ = hy * ir
-                    g = fma(ax_, ax_, fma(ay_, ay_, -1.0))
-                    if abs(g) < NEWTON_DELTA:
-                        hg = 0.5 * g
-                        nx = -fma(hx, ir, -hg * ax_)
-                        ny = -fma(hy, ir, -hg * ay_)
-                    else:  # a hit point far off the circle (the end of a very long flight)
-                        irho = 1.0 / math.sqrt(hx * hx + hy * hy)
-                        nx = -hx * irho
-                        ny = -hy * irho
+                    nx, ny = _disk_normal(hx, hy, ir)
                 if law == NOSLIP:
                     vx, vy, w = collide(law, c, s, vx, vy, w, nx, ny)
-                else:  # the reflection in the line through h; 1/|h|^2 one Newton step from 1/r^2
-                    hh = hx * hx + hy * hy
-                    delta = hh * ir2 - 1.0
-                    ihh = ir2 * (1.0 - delta) if abs(delta) < NEWTON_DELTA else 1.0 / hh
-                    k = 2.0 * (vx * hx + vy * hy) * ihh
-                    vx -= k * hx
-                    vy -= k * hy
+                else:
+                    vx, vy = _disk_reflect(vx, vy, hx, hy, ir2)
                 t += t_hit
                 n += 1
                 if mode != RECORD_NONE:
-                    ox, oy = lattice_shift(A, m1, m2)
-                    sx = 0.0
-                    sy = 0.0
-                    if cur_o1 != 0 or cur_o2 != 0:
-                        sx, sy = lattice_shift(A, cur_o1, cur_o2)
-                    n_rec = record(mode, rec, n_rec, mask, t, x, y, ox, oy, m1, m2, vx, vy, w, vx_in, vy_in, w_in,
-                                   CIRCLE, p, sx, sy, e, 0.0, nx, ny)
+                    n_rec = _record_disk_hit(mode, rec, n_rec, mask, A, m1, m2, cur_o1, cur_o2, t, x, y, vx, vy, w,
+                                             vx_in, vy_in, w_in, p, e, nx, ny)
             if stop != STOP_MAX_COLLISIONS or n >= max_collisions:  # stopped inside the block, or done
                 break
             vx, vy, w = settle(vx, vy, w, mixes, 0.0, 0.0, 0.0, 0.0, False, energy0, how, nx, ny)

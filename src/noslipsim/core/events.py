@@ -25,7 +25,7 @@ from .geometry import (
 )
 from .jit import jit
 from .layout import ARC, END_END, END_START, LINE, SEGMENT
-from .roots import cubic_exits, linear_exit, quadratic_exit, quartic_exits
+from .roots import cubic_exits, linear_exit, quadratic_exit, quartic_exits, straight_circle_exit
 from .tolerances import CONTACT_GAP, CONTACT_TOL, NONCONVEX_END_FACTOR
 
 INF = math.inf
@@ -94,16 +94,7 @@ def straight_hit_time(kind, p, x, y, vx, vy, deflate, hi, extent_tol):
             return INF
         t = linear_exit((x - p[0]) * p[2] + (y - p[1]) * p[3], c1, hi)
     else:
-        dx = x - p[0]
-        dy = y - p[1]
-        sig = p[3]
-        c1 = sig * 2.0 * (dx * vx + dy * vy)
-        c2 = sig * (vx * vx + vy * vy)
-        if deflate:
-            t = linear_exit(c1, c2, hi)
-        else:
-            r = p[2]
-            t = quadratic_exit(sig * ((dx * dx + dy * dy) - r * r), c1, c2, hi)
+        t = straight_circle_exit(x - p[0], y - p[1], vx, vy, p[3], p[2], deflate, hi)
     if t != INF and (kind == SEGMENT or kind == ARC):
         if extent_position(kind, p, x + t * vx, y + t * vy, extent_tol) < 0:
             return INF

@@ -51,30 +51,52 @@ def cauchy_bound(c0, c1, c2, c3, c4, deg):
     return 1.0 + m / lead
 
 
+@jit(inline="always")  # inlined: it starts every polish, and the operations must stay those of each caller
+def secant_start(a, b, fa, fb):
+    """The first iterate of :func:`bracket_step` in ``[a, b]`` from ``fa = f(a)``, ``fb = f(b)`` of opposite signs.
+
+    The regula falsi point (exact for a straight piece), or the midpoint
+    where rounding puts that point outside the open bracket.
+    """
+    t = a + (b - a) * (fa / (fa - fb))
+    if not (a < t < b):
+        t = 0.5 * (a + b)
+    return t
+
+
+@jit(inline="always")  # inlined: one call per Newton step of every root polished
+def bracket_step(a, b, t, f, d, sa):
+    """One safeguarded Newton step on the bracket ``[a, b]``: ``(a, b, t_next, done)``.
+
+    ``f``, ``d``: the function and its derivative at ``t``; ``sa``: the sign
+    (``f > 0``) at ``a``.  ``t`` replaces the bracket's end of its sign; the
+    Newton iterate from ``t``, or the bisection point when it falls outside
+    the bracket (or ``d = 0``), is ``t_next``.  ``done``: ``f(t) = 0``
+    (``t_next = t``), or the step or the bracket is down to rounding.
+    """
+    if f == 0.0:
+        return a, b, t, True
+    if (f > 0.0) == sa:
+        a = t
+    else:
+        b = t
+    tn = t - f / d if d != 0.0 else 0.5 * (a + b)
+    if not (a <= tn <= b):
+        tn = 0.5 * (a + b)
+    done = abs(tn - t) <= 2.0 * EPS * abs(tn) or b - a <= 2.0 * EPS * max(abs(a), abs(b))
+    return a, b, tn, done
+
+
 @jit
 def polish(c0, c1, c2, c3, c4, a, b, fa):
     """Root of ``p`` in ``[a, b]`` where ``p`` is monotone and ``p(a)`` (= ``fa``), ``p(b)`` differ in sign."""
     sa = fa > 0.0
-    fb = horner(c0, c1, c2, c3, c4, b)
-    # regula falsi start: exact for a straight piece, safe otherwise
-    t = a + (b - a) * (fa / (fa - fb))
-    if not (a < t < b):
-        t = 0.5 * (a + b)
+    t = secant_start(a, b, fa, horner(c0, c1, c2, c3, c4, b))
     for _ in range(ROOT_MAX_ITER):
         f = horner(c0, c1, c2, c3, c4, t)
-        if f == 0.0:
-            return t
-        if (f > 0.0) == sa:
-            a = t
-        else:
-            b = t
-        d = horner_prime(c1, c2, c3, c4, t)
-        tn = t - f / d if d != 0.0 else 0.5 * (a + b)
-        if not (a <= tn <= b):
-            tn = 0.5 * (a + b)
-        if abs(tn - t) <= 2.0 * EPS * abs(tn) or b - a <= 2.0 * EPS * max(abs(a), abs(b)):
-            return tn
-        t = tn
+        a, b, t, done = bracket_step(a, b, t, f, horner_prime(c1, c2, c3, c4, t), sa)
+        if done:
+            break
     return t
 
 
@@ -125,6 +147,70 @@ def quadratic_exit(c0, c1, c2, hi):
     return INF
 
 
+@jit(inline="always")  # inlined: the lean straight flights test every circle copy in a cell with it
+def straight_circle_exit(dx, dy, vx, vy, sig, r, deflate, hi):
+    """Exit root in ``(0, hi]`` of a straight flight ``d + v t`` from the circle of radius ``r``, or inf.
+
+    ``d = (dx, dy)``: the start relative to the centre; ``sig``: +1 outside
+    the circle is the table side, -1 inside.  The crossing quadratic
+    ``sig (|d + v t|^2 - r^2)``; ``deflate``: the circle was just hit at
+    ``t = 0`` (its constant term is that root, divided out).
+    """
+    c1 = sig * 2.0 * (dx * vx + dy * vy)
+    c2 = sig * (vx * vx + vy * vy)
+    if deflate:
+        return linear_exit(c1, c2, hi)
+    return quadratic_exit(sig * ((dx * dx + dy * dy) - r * r), c1, c2, hi)
+
+
+@jit(inline="always")
+def _piece_end(i, k1, k2, k3, hi):
+    """The right end of piece ``i`` of ``[0, hi]``: the break points ``k1, k2, k3``, then ``hi``."""
+    if i == 0:
+        return k1
+    if i == 1:
+        return k2
+    if i == 2:
+        return k3
+    return hi
+
+
+@jit(inline="always")
+def _piece_exit(c0, c1, c2, c3, c4, a, fa, b, fb, before):
+    """The exit root on the monotone piece ``[a, b]`` from ``p(a) = fa``, ``p(b) = fb``, or inf.
+
+    ``before``: the last nonzero value at or before ``a``; ``+, 0, -`` is an
+    exit at ``a`` (an osculating crossing).
+    """
+    if fa > 0.0 and fb < 0.0:
+        return polish(c0, c1, c2, c3, c4, a, b, fa)
+    if fa == 0.0 and a > 0.0 and before > 0.0 and fb < 0.0:
+        return a
+    return INF
+
+
+@jit(inline="always")
+def _add_exit(e1, e2, r):
+    """``(e1, e2)`` with the exit ``r`` (inf: none) in the first free place."""
+    if r != INF:
+        if e1 == INF:
+            e1 = r
+        else:
+            e2 = r
+    return e1, e2
+
+
+@jit(inline="always")
+def _add_exit_at_end(c1, c2, c3, c4, a, fa, before, hi, e1, e2):
+    """``(e1, e2)`` with an exit exactly at ``hi`` if ``p`` reaches 0 there from above, decreasing."""
+    if fa == 0.0 and a == hi and a > 0.0 and before > 0.0 and horner_prime(c1, c2, c3, c4, a) <= 0.0:
+        if e1 == INF:
+            e1 = a
+        elif e2 == INF and e1 != a:
+            e2 = a
+    return e1, e2
+
+
 @jit
 def _exits_on_pieces(c0, c1, c2, c3, c4, k1, k2, k3, hi):
     """Up to two exit roots of ``p`` in ``(0, hi]`` given its sorted critical points ``k1..k3`` (inf padded).
@@ -142,41 +228,20 @@ def _exits_on_pieces(c0, c1, c2, c3, c4, k1, k2, k3, hi):
     fa = c0
     before = c0  # last nonzero value at or before a
     for i in range(4):
-        if i == 0:
-            b = k1
-        elif i == 1:
-            b = k2
-        elif i == 2:
-            b = k3
-        else:
-            b = hi
+        b = _piece_end(i, k1, k2, k3, hi)
         if b <= a:
             continue
         if b > hi:
             b = hi
         fb = horner(c0, c1, c2, c3, c4, b)
-        r = INF
-        if fa > 0.0 and fb < 0.0:
-            r = polish(c0, c1, c2, c3, c4, a, b, fa)
-        elif fa == 0.0 and a > 0.0 and before > 0.0 and fb < 0.0:
-            r = a
-        if r != INF:
-            if e1 == INF:
-                e1 = r
-            else:
-                e2 = r
+        e1, e2 = _add_exit(e1, e2, _piece_exit(c0, c1, c2, c3, c4, a, fa, b, fb, before))
         if fa != 0.0:
             before = fa
         a = b
         fa = fb
         if a >= hi:
             break
-    if fa == 0.0 and a == hi and a > 0.0 and before > 0.0 and horner_prime(c1, c2, c3, c4, a) <= 0.0:
-        if e1 == INF:
-            e1 = a
-        elif e2 == INF and e1 != a:
-            e2 = a
-    return e1, e2
+    return _add_exit_at_end(c1, c2, c3, c4, a, fa, before, hi, e1, e2)
 
 
 @jit

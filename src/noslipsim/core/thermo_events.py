@@ -42,7 +42,7 @@ import math
 from .geometry import extent_position
 from .jit import jit
 from .layout import ARC, LINE, SEGMENT
-from .roots import linear_exit, quadratic_exit
+from .roots import bracket_step, secant_start, straight_circle_exit
 from .search import GAVE_UP, SEARCH_FAILED  # noqa: F401  (re-exported: the give-up codes of the search)
 from .thermostat import displacement, drag, state
 from .tolerances import ROOT_MAX_ITER
@@ -82,24 +82,12 @@ def _line_root(fl, f0, n1, n2, nv, a, b, fa, fb):
     """Root of the monotone ``f = f0 + n . (q(t) - q(0))`` in ``[a, b]`` with ``fa > 0 >= fb``: safeguarded Newton."""
     if fb == 0.0:
         return b
-    t = a + (b - a) * (fa / (fa - fb))
-    if not (a < t < b):
-        t = 0.5 * (a + b)
+    t = secant_start(a, b, fa, fb)
     for _ in range(ROOT_MAX_ITER):
         val, der = _line_value(fl, n1, n2, nv, t)
-        f = f0 + val
-        if f == 0.0:
-            return t
-        if f > 0.0:
-            a = t
-        else:
-            b = t
-        tn = t - f / der if der != 0.0 else 0.5 * (a + b)
-        if not (a <= tn <= b):
-            tn = 0.5 * (a + b)
-        if abs(tn - t) <= 2.0 * EPS * abs(tn) or b - a <= 2.0 * EPS * max(abs(a), abs(b)):
-            return tn
-        t = tn
+        a, b, t, done = bracket_step(a, b, t, f0 + val, der, True)
+        if done:
+            break
     return t
 
 
@@ -303,40 +291,125 @@ def _round_root(fl, cx, cy, sig, r, a, b):
     Gb = _round_at(fl, cx, cy, sig, r, b)[5]
     if Gb >= 0.0:
         return b
-    t = a + (b - a) * (Ga / (Ga - Gb))
-    if not (a < t < b):
-        t = 0.5 * (a + b)
+    t = secant_start(a, b, Ga, Gb)
     for _ in range(ROOT_MAX_ITER):
         G, G1 = _round_at(fl, cx, cy, sig, r, t)[5:]
-        if G == 0.0:
-            return t
-        if G > 0.0:
-            a = t
-        else:
-            b = t
-        tn = t - G / G1 if G1 != 0.0 else 0.5 * (a + b)
-        if not (a <= tn <= b):
-            tn = 0.5 * (a + b)
-        if abs(tn - t) <= 2.0 * EPS * abs(tn) or b - a <= 2.0 * EPS * max(abs(a), abs(b)):
-            return tn
-        t = tn
+        a, b, t, done = bracket_step(a, b, t, G, G1, True)
+        if done:
+            break
     return t
 
 
+@jit(inline="always")
+def _in_extent(kind, p, fl, sx, sy, t, extent_tol):
+    """True if the flight's point at time ``t``, shifted back by ``(sx, sy)``, lies in the element's extent."""
+    hx, hy = state(fl, t)[:2]
+    return extent_position(kind, p, hx - sx, hy - sy, extent_tol) >= 0
+
+
 @jit
-def _straight_round_exit(fl, cx, cy, sig, r, lo, hi, deflate):
-    """A straight flight (along or against the field): the exit root of the quadratic, if in ``(lo, hi]``."""
-    dx = fl[0] - cx
-    dy = fl[1] - cy
-    vx = fl[2]
-    vy = fl[3]
-    c1 = sig * 2.0 * (dx * vx + dy * vy)
-    c2 = sig * (vx * vx + vy * vy)
-    if deflate:
-        t = linear_exit(c1, c2, hi)
-    else:
-        t = quadratic_exit(sig * ((dx * dx + dy * dy) - r * r), c1, c2, hi)
-    return t if t > lo else INF
+def _straight_round_hit(kind, p, fl, sx, sy, cx, cy, sig, r, lo, hi, deflate, extent_tol):
+    """A straight flight (along or against the field): the quadratic's exit root if in ``(lo, hi]`` and the extent."""
+    t = straight_circle_exit(fl[0] - cx, fl[1] - cy, fl[2], fl[3], sig, r, deflate, hi)
+    if not t > lo:
+        return INF
+    if t < INF and kind == ARC and not _in_extent(kind, p, fl, sx, sy, t, extent_tol):
+        return INF
+    return t
+
+
+@jit(inline="always")
+def _receding(fl, r, hi, lam, dx, dy):
+    """True if, with no end to the window, the flight is beyond the circle along the field and moves on along it."""
+    return hi == INF and lam <= 0.0 and dx * fl[12] + dy * fl[13] > r
+
+
+@jit(inline="always")
+def _step_bounds(fl, r, E, dn, lam, a, hi, d0):
+    """``(span, Q, noise)`` of the step from ``a``: the window, the curvature term and the rounding of ``G``."""
+    c = fl[4]
+    S = 1.0 if lam >= 0.0 else 1.0 / math.cosh(lam)
+    W = (dn + r) / c
+    Q = (2.0 * dn + r) * E * S
+    span = min(W, hi - a)
+    noise = 32.0 * EPS * (dn + r) * (dn + r + d0 + c * a)
+    return span, Q, noise
+
+
+@jit
+def _tangency(fl, E, sig, dx, dy, vx, vy, G, G1, a, tlo, span, noise):
+    """``G`` zero to rounding and no sure crossing: ``(root, tlo)``, decided by ``G''``.
+
+    At the circle and curving out: it leaves here.  A dip deeper than the
+    rounding: the first crossing.  Otherwise a tangency (no collision): the
+    step ``tlo`` is lengthened past the minimum of ``G``.
+    """
+    root = INF
+    aex, aey = drag(vx, vy, E * fl[12], E * fl[13])
+    G2 = sig * 2.0 * ((vx * vx + vy * vy) + (dx * aex + dy * aey))
+    if G2 <= 0.0 and G1 <= 0.0:
+        root = a + _first_root(max(G, 0.0), G1, 0.5 * G2)
+    elif G1 < 0.0 and G2 > 0.0:
+        tm = -G1 / G2
+        if G - 0.5 * G1 * G1 / G2 < -noise:
+            root = a + 2.0 * G / (-G1 + math.sqrt(G1 * G1 - 2.0 * G2 * G))
+        else:
+            tlo = min(max(tlo, 2.0 * tm), span)
+    return root, tlo
+
+
+@jit(inline="always")
+def _table_side_step(fl, E, cx, cy, sig, r, dx, dy, vx, vy, lam, G, G1, a, hi, span, Q, noise):
+    """On the table side at ``a``: ``(step, root)``, a crossing ``root`` (inf if none) or else a safe ``step``.
+
+    The lower quadratic's first root is a step that cannot pass a crossing;
+    once the upper one's is in the window too, the bracket holds the exit.
+    ``step`` inf: the flight recedes for good, no exit.
+    """
+    c = fl[4]
+    tlo = _first_root(G, G1, sig * c * c - Q)
+    if tlo < span:
+        tup = _first_root(G, G1, sig * c * c + Q)
+        if tup <= span:
+            return tlo, _round_root(fl, cx, cy, sig, r, a + tlo, a + tup)
+        if G <= noise:
+            root, tlo = _tangency(fl, E, sig, dx, dy, vx, vy, G, G1, a, tlo, span, noise)
+            return tlo, root
+        return tlo, INF
+    if _receding(fl, r, hi, lam, dx, dy):
+        return INF, INF
+    return span, INF
+
+
+@jit(inline="always")
+def _off_side_step(fl, sig, r, dx, dy, lam, G, G1, hi, span, Q):
+    """Off the table side at ``a`` (``G <= 0``): the step until ``G`` may be positive again (inf: never)."""
+    c = fl[4]
+    tin = _first_root(max(-G, 0.0), -G1, -(sig * c * c + Q))
+    if tin < span:
+        return tin
+    if _receding(fl, r, hi, lam, dx, dy):
+        return INF
+    return span
+
+
+#: What a crossing found by :func:`round_hit` is: the hit, past the window (no hit), or outside an
+#: arc's extent (the search goes on from it).
+HIT = 1
+MISS = 2
+PASS = 0
+
+
+@jit(inline="always")
+def _crossing_verdict(kind, p, fl, sx, sy, lo, hi, extent_tol, root):
+    """:data:`HIT`, :data:`MISS` or :data:`PASS` for a crossing of the circle at time ``root``."""
+    if root > lo and root <= hi:
+        if kind != ARC or _in_extent(kind, p, fl, sx, sy, root, extent_tol):
+            return HIT
+        return PASS
+    if root > hi:
+        return MISS
+    return PASS
 
 
 @jit
@@ -351,14 +424,8 @@ def round_hit(kind, p, fl, sx, sy, lo, hi, deflate, extent_tol, E):
     cy = p[1] + sy
     r = p[2]
     sig = p[3]
-    c = fl[4]
     if fl[11] == 0.0:  # a straight flight: one quadratic exit at most
-        t = _straight_round_exit(fl, cx, cy, sig, r, lo, hi, deflate)
-        if t < INF and kind == ARC:
-            hx, hy = state(fl, t)[:2]
-            if extent_position(kind, p, hx - sx, hy - sy, extent_tol) < 0:
-                return INF
-        return t
+        return _straight_round_hit(kind, p, fl, sx, sy, cx, cy, sig, r, lo, hi, deflate, extent_tol)
     d0 = math.hypot(fl[0] - cx, fl[1] - cy)
     a = lo
     dx, dy, vx, vy, lam, G, G1 = _round_at(fl, cx, cy, sig, r, a)
@@ -369,58 +436,26 @@ def round_hit(kind, p, fl, sx, sy, lo, hi, deflate, extent_tol, E):
         if a >= hi:
             return INF
         dn = math.hypot(dx, dy)
-        S = 1.0 if lam >= 0.0 else 1.0 / math.cosh(lam)
-        W = (dn + r) / c
-        Q = (2.0 * dn + r) * E * S
-        span = min(W, hi - a)
-        noise = 32.0 * EPS * (dn + r) * (dn + r + d0 + c * a)
-        step = span
+        span, Q, noise = _step_bounds(fl, r, E, dn, lam, a, hi, d0)
         if not out and (G > 0.0 or (G == 0.0 and G1 > 0.0)):
-            tlo = _first_root(G, G1, sig * c * c - Q)
-            if tlo < span:
-                tup = _first_root(G, G1, sig * c * c + Q)
-                root = INF
-                if tup <= span:
-                    root = _round_root(fl, cx, cy, sig, r, a + tlo, a + tup)
-                elif G <= noise:  # zero to rounding and no sure crossing: a tangency, decided by G''
-                    aex, aey = drag(vx, vy, E * fl[12], E * fl[13])
-                    G2 = sig * 2.0 * ((vx * vx + vy * vy) + (dx * aex + dy * aey))
-                    if G2 <= 0.0 and G1 <= 0.0:  # at the circle and curving out: it leaves here
-                        root = a + _first_root(max(G, 0.0), G1, 0.5 * G2)
-                    elif G1 < 0.0 and G2 > 0.0:
-                        tm = -G1 / G2
-                        if G - 0.5 * G1 * G1 / G2 < -noise:  # a dip deeper than rounding: the first crossing
-                            root = a + 2.0 * G / (-G1 + math.sqrt(G1 * G1 - 2.0 * G2 * G))
-                        else:  # a tangency: step past the minimum (no collision)
-                            tlo = min(max(tlo, 2.0 * tm), span)
-                if root < INF:
-                    if root > lo and root <= hi:
-                        if kind != ARC:
-                            return root
-                        hx, hy = state(fl, root)[:2]
-                        if extent_position(kind, p, hx - sx, hy - sy, extent_tol) >= 0:
-                            return root
-                    elif root > hi:
-                        return INF
-                    a = max(root, a)
-                    out = True
-                    dx, dy, vx, vy, lam, G, G1 = _round_at(fl, cx, cy, sig, r, a)
-                    continue
-                step = tlo
-            elif hi == INF and lam <= 0.0 and dx * fl[12] + dy * fl[13] > r:
-                return INF  # beyond the circle along the field, and moving on along it for good
+            step, root = _table_side_step(fl, E, cx, cy, sig, r, dx, dy, vx, vy, lam, G, G1, a, hi, span, Q, noise)
+            if root < INF:
+                verdict = _crossing_verdict(kind, p, fl, sx, sy, lo, hi, extent_tol, root)
+                if verdict != PASS:
+                    return root if verdict == HIT else INF
+                a = max(root, a)
+                out = True
+                dx, dy, vx, vy, lam, G, G1 = _round_at(fl, cx, cy, sig, r, a)
+                continue
         else:
-            # G <= 0: the upper bound tells when G may be positive again
-            tin = _first_root(max(-G, 0.0), -G1, -(sig * c * c + Q))
+            step = _off_side_step(fl, sig, r, dx, dy, lam, G, G1, hi, span, Q)
             out = False
-            if tin < span:
-                step = tin
-            elif hi == INF and lam <= 0.0 and dx * fl[12] + dy * fl[13] > r:
-                return INF
+        if step == INF:
+            return INF
         if not a + step > a:  # no progress: the bound's step is zero or below the resolution of a (a flight
             # re-entering the table side with G zero to rounding stepped by 4e-16 at a = 5 and stalled for
             # MAX_STEPS steps); move on by a rounding step
-            step = max(4.0 * EPS * a, EPS * dn / c)
+            step = max(4.0 * EPS * a, EPS * dn / fl[4])
         a += step
         dx, dy, vx, vy, lam, G, G1 = _round_at(fl, cx, cy, sig, r, a)
     return GAVE_UP  # undecided: the caller must not read this as "no hit"
@@ -438,9 +473,7 @@ def element_hit(kind, p, fl, sx, sy, deflate, lo, hi, extent_tol, E):
         ny = p[3]
         f0 = 0.0 if deflate else ((fl[0] - sx) - p[0]) * nx + ((fl[1] - sy) - p[1]) * ny
         t = line_exit(fl, f0, nx, ny, lo, hi, deflate)
-        if t < INF and kind == SEGMENT:
-            hx, hy = state(fl, t)[:2]
-            if extent_position(kind, p, hx - sx, hy - sy, extent_tol) < 0:
-                return INF
+        if t < INF and kind == SEGMENT and not _in_extent(kind, p, fl, sx, sy, t, extent_tol):
+            return INF
         return t
     return round_hit(kind, p, fl, sx, sy, lo, hi, deflate, extent_tol, E)
