@@ -17,8 +17,8 @@ LOG, PORTRAIT, NONE = layout.RECORD_LOG, layout.RECORD_PORTRAIT, layout.RECORD_N
 def kernels(scene, mode):
     """``(general, lean)``: the flags of the general path's lattice variant for this scene and of the lean loop."""
     flags = kernel_table(scene).variant(mode)
-    assert flags[4] is True
-    return (*flags[:4], None, None), flags
+    assert flags.disks is True
+    return flags._replace(disks=False, walls=None, mixed=None), flags
 
 
 def run(flags, scene, q, v, w, n, mode=LOG, max_time=math.inf, level=-math.inf, start_element=-1):

@@ -1,11 +1,11 @@
 """Specialised event loops give the general path's results, bit for bit (issue: pay only for what a scene needs).
 
-``orbit_kernel(force, spin, lattice, mode, disks, walls)`` fixes flags at
+``orbit_kernel(spin, lattice, mode, disks, walls, flight, mixed)`` fixes flags at
 compile time; ``None`` reads them from the arguments.  On each scene every
 variant the scene can use (each flag fixed to the scene's value or left
 ``None``) must return the same 12 outputs and the same record rows as
-``orbit_kernel()`` over 20,000 collisions.  The fifth slot, ``disks`` (the
-lean loop of disks on a lattice), is left ``None`` here: that loop agrees to
+``orbit_kernel()`` over 20,000 collisions.  The ``disks`` slot (the
+lean loop of disks on a lattice) is left ``None`` here: that loop agrees to
 rounding, not bit for bit, and is checked in ``tests/test_disk_lattice.py``.
 The default run checks the variant each scene runs (``KernelTable.variant``,
 every flag fixed; ``disks`` left ``None`` as above): the kernels the other
@@ -24,7 +24,7 @@ from noslipsim import Circle, Scene, tables
 from noslipsim._engine.table import kernel_table
 from noslipsim.core import layout
 from noslipsim.core.loop import orbit_kernel, run_orbit
-from noslipsim.core.variant import FREE, GENERAL
+from noslipsim.core.variant import FORCE, GENERAL, STRAIGHT, Variant
 from noslipsim.scenes import MIN_FORCE
 from noslipsim.simulate import start_cell
 
@@ -43,9 +43,9 @@ SCENES = {  # name -> (scene, start position, velocity, spin)
 LAWS = ("specular", "no-slip")
 CASES = [(name, law) for name in SCENES for law in LAWS]
 
-SLOTS = (0, 1, 2, 3, 5)  # force, spin, lattice, mode, walls (slot 4, disks, is another loop; slot 6, the
-# thermostat, is left to run time here and checked on a thermostatted scene in tests/test_thermostat_api.py;
-# slot 7, per-element laws, likewise, on a mixed table in tests/test_mixed_law.py)
+SLOTS = (0, 1, 2, 4, 5)  # spin, lattice, mode, walls, flight (slot 3, disks, is another loop; the flight is
+# straight or a force here, the thermostat's is checked on a thermostatted scene in tests/test_thermostat_api.py;
+# slot 6, per-element laws, is left to run time here and checked on a mixed table in tests/test_mixed_law.py)
 ALL_SUBSETS = [s for k in range(1, len(SLOTS) + 1) for s in itertools.combinations(SLOTS, k)]
 STRESS_SUBSETS = ALL_SUBSETS
 
@@ -90,13 +90,13 @@ def general(name, law, mode):
 def variant_flags(name, law, mode, subset):
     """The scene's flags fixed in ``subset`` (slot indices), the others left None."""
     needs = kernel_table(scene_of(name, law)[0]).variant(mode)
-    return tuple(f if i in subset else None for i, f in enumerate(needs))
+    return Variant(*(f if i in subset else None for i, f in enumerate(needs)))
 
 
 def scene_variant(name, law, mode):
     """The variant the scene runs (its flags, every one fixed), the lean disk loop's slot left None."""
     needs = kernel_table(scene_of(name, law)[0]).variant(mode)
-    return tuple(None if i == 4 and f else f for i, f in enumerate(needs))
+    return needs._replace(disks=None)
 
 
 def check_identical(name, law, mode_name, subset=None):
@@ -133,7 +133,7 @@ def test_comparison_sees_one_ulp_and_a_wrong_law():
     q = SCENES["sinai_box"][1]
     nudged = run(GENERAL, "sinai_box", "no-slip", LOG, start=(np.nextafter(q[0], 1.0), q[1]))[0]
     assert not np.array_equal(bits(nudged), bits(out_g))
-    wrong, rec_w = run((None, False, None, None, None, None), "pentagon", "no-slip", LOG)
+    wrong, rec_w = run(Variant(spin=False), "pentagon", "no-slip", LOG)
     out_p, rec_p = general("pentagon", "no-slip", LOG)
     assert not np.array_equal(bits(wrong), bits(out_p))
     assert np.all(rec_w[:100, layout.LOG_W] == rec_w[0, layout.LOG_W])  # specular: spin never changes
@@ -144,12 +144,12 @@ def test_comparison_sees_one_ulp_and_a_wrong_law():
 @pytest.mark.parametrize("name,law", CASES)
 def test_kernel_variant_asks_only_for_what_the_scene_needs(name, law, mode):
     scene = scene_of(name, law)[0]
-    force, spin, lattice, m, disks, walls, flight, mixed = kernel_table(scene).variant(mode)
+    spin, lattice, m, disks, walls, flight, mixed = kernel_table(scene).variant(mode)
     # exact bools: orbit_kernel tells "fixed False" from "read at run time" by identity (``is False``)
-    assert all(f is True or f is False for f in (force, spin, lattice, disks, walls, mixed))
-    assert flight == FREE and type(flight) is int  # no scene here has a thermostat or a field
+    assert all(f is True or f is False for f in (spin, lattice, disks, walls, mixed))
+    assert type(flight) is int  # no scene here has a thermostat or a field: straight flights or free fall
     assert mixed is False  # one law per table: none compiles per-element laws
-    assert force is (name in ("circle_gravity", "galton", "wedge"))
+    assert flight == (FORCE if name in ("circle_gravity", "galton", "wedge") else STRAIGHT)
     assert spin is (law == "no-slip")
     assert lattice is (name in ("galton", "sinai_torus"))
     # no records: the recorder is compiled out; a log or a portrait: one kernel reads which at run time
@@ -163,4 +163,4 @@ def test_kernel_variant_asks_only_for_what_the_scene_needs(name, law, mode):
 def test_force_flag_is_false_exactly_for_zero_force(force, has):
     # the smallest force a scene accepts (docs/conventions.md, "Range of validity"; 1e-300 alone is refused)
     scene = tables.regular_polygon(5, force=force)
-    assert kernel_table(scene).variant(NONE)[0] is has
+    assert kernel_table(scene).variant(NONE).flight == (FORCE if has else STRAIGHT)

@@ -132,7 +132,7 @@ def test_dropping_unreachable_copies_changes_no_bit(law):
     outs = []
     for copies in (table.copies, boxed):
         rec = np.zeros((3000, layout.N_LOG))
-        general = (*table.variant(layout.RECORD_LOG)[:4], None, None)
+        general = table.variant(layout.RECORD_LOG)._replace(disks=False, walls=None, mixed=None)
         out = run_kernel(replace(table, copies=copies), general, (0.0, 0.47), (0.6, 0.8), 0.1, 3000,
                          layout.RECORD_LOG, rec=rec, mask=np.ones(1, np.bool_))
         outs.append((np.asarray(out, float), rec))

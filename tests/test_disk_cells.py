@@ -120,7 +120,7 @@ def test_dispatch_takes_disjoint_disks_without_force():
         "plain"])
 def test_dispatch_refuses_what_the_lean_loop_cannot_run(scene):
     assert kernel_table(scene).disk_lattice is False
-    assert kernel_table(canonical_form(scene).scene).variant(LOG)[4] is False
+    assert kernel_table(canonical_form(scene).scene).variant(LOG).disks is False
 
 
 def test_gap_between_lattice_copies_decides():
@@ -225,7 +225,7 @@ def test_stops_agree_with_the_general_path(name, stop, law):
 @pytest.mark.parametrize("name", ["two disks", "two disks, reaching", "five disks"])
 def test_public_api_runs_the_lean_loop_and_keeps_chunking_invariance(name):
     scene = user_scene(name, "no-slip")
-    assert kernel_table(canonical_form(scene).scene).variant(NONE)[4] is True
+    assert kernel_table(canonical_form(scene).scene).variant(NONE).disks is True
     rng = np.random.default_rng(3)
     q = []
     while len(q) < 9:  # starts inside the table, in the user's coordinates

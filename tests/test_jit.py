@@ -33,8 +33,9 @@ def test_kernels_run_without_the_reference_counting_runtime():
 _NAMES = """
 from noslipsim.core.batch import batch_kernel
 from noslipsim.core.loop import orbit_kernel
-for flags in [(True, True, True, 0, False, False), (False, True, True, 0, False, False),
-              (False, False, False, 1, False, True), (False, True, True, 2, True, False)]:
+from noslipsim.core.variant import FORCE, STRAIGHT, Variant
+for flags in [Variant(True, True, 0, False, False, FORCE), Variant(True, True, 0, False, False, STRAIGHT),
+              Variant(False, False, 1, False, True, STRAIGHT), Variant(True, True, 2, True, False, STRAIGHT)]:
     for kernel in (batch_kernel(flags), orbit_kernel(*flags)):
         print(kernel.py_func.__qualname__, kernel._uuid)
 """

@@ -15,8 +15,9 @@ def test_ruff_reports_no_finding():
                                  f"{proc.stdout[-4000:]}{proc.stderr[-2000:]}"
 
 
-#: Core modules whose every function keeps McCabe complexity <= 15 (issue 32: small named steps).
-SIMPLE_CORE = ["src/noslipsim/core/disks.py", "src/noslipsim/core/roots.py", "src/noslipsim/core/thermo_events.py"]
+#: Every function of the compiled core keeps McCabe complexity <= 15 (issue 32: small named steps; ruff counts a
+#: closure into the factory that defines it, so each factory holds one small kernel).
+SIMPLE_CORE = ["src/noslipsim/core"]
 
 
 def test_core_functions_are_small():

@@ -126,7 +126,7 @@ def test_only_long_walls_are_checked_for_a_cancelled_distance():
         table = kernel_table(scene)
         column = table.params[:, layout.LONG_WALL].tolist()
         # the scene's kernel has the check compiled in exactly when a wall is flagged
-        assert table.variant(layout.RECORD_NONE)[5] is table.long_walls is any(column)
+        assert table.variant(layout.RECORD_NONE).walls is table.long_walls is any(column)
         return column
 
     a = 2 * np.pi * np.arange(5) / 5
@@ -145,7 +145,7 @@ def test_a_loop_compiled_without_the_check_is_off_far_along_the_wall(monkeypatch
     from noslipsim._engine.table import KernelTable
 
     variant = KernelTable.variant
-    monkeypatch.setattr(KernelTable, "variant", lambda self, mode: (*variant(self, mode)[:5], False))
+    monkeypatch.setattr(KernelTable, "variant", lambda self, mode: variant(self, mode)._replace(walls=False))
     for law, force in (("specular", "none"), ("no-slip", "onto_wall")):
         rows = one_step_errors("centred", law, FORCES[force], LENGTH / 2)
         worst = max(max(r["t_err"], r["v_err"] / r["force_gain"]) / r["bound"] for r in rows)

@@ -135,10 +135,10 @@ def test_weak_field_mean_free_time_is_santalo():
 def test_a_magnetic_scene_runs_the_magnetic_variant_and_nothing_else():
     table = kernel_table(BOX.replace(magnetic=1.5))
     flags = table.variant(layout.RECORD_NONE)
-    assert flags[6] == variant.MAGNETIC and flags[0] is False
+    assert flags.flight == variant.MAGNETIC
     final = run_orbits(table, [(0.3, 0.3, 0.6, 0.8, 0.0)], max_collisions=3)
     assert "flight=magnetic" in variant.describe(int(final[0, F_VARIANT]))
-    assert kernel_table(BOX).variant(0)[6] == variant.FREE
+    assert kernel_table(BOX).variant(0).flight == variant.STRAIGHT
 
 
 def test_simulate_many_and_a_portrait_run_a_field():

@@ -25,7 +25,7 @@ from noslipsim.analysis.tangent import step_entries
 from noslipsim.core import layout
 from noslipsim.core.laws import collide
 from noslipsim.core.loop import orbit_kernel
-from noslipsim.core.variant import GENERAL
+from noslipsim.core.variant import GENERAL, STRAIGHT, Variant
 from noslipsim.reference import simulate_reference
 
 DISK = 1 / math.sqrt(2)
@@ -75,14 +75,14 @@ def test_one_law_on_every_element_is_the_plain_table_bit_for_bit(law):
     explicit = one_law_cell(law, explicit=True)
     assert explicit != plain and not explicit.mixed_laws  # another value, the same billiard
     assert kernel_table(explicit).variant(1) == kernel_table(plain).variant(1)
-    assert kernel_table(plain).variant(1)[7] is False  # a table of one law compiles no per-element code
+    assert kernel_table(plain).variant(1).mixed is False  # a table of one law compiles no per-element code
     out_p, rec_p = log_of(plain, 3000)
     out_e, rec_e = log_of(explicit, 3000)
     assert np.array_equal(bits(out_e), bits(out_p)) and np.array_equal(bits(rec_e), bits(rec_p))
     # the per-element variant (mixed=True) on the plain table: the same bits too (spin=False would force the
     # specular law everywhere, so the specular table's spin is left to run time)
     own = kernel_table(plain).variant(1)
-    mixed_flags = (own[0], own[1] or None, *own[2:7], True)
+    mixed_flags = own._replace(spin=own.spin or None, mixed=True)
     assert orbit_kernel(*mixed_flags) is not orbit_kernel(*kernel_table(plain).variant(1))
     out_m, rec_m = log_of(plain, 3000, flags=mixed_flags)
     assert np.array_equal(bits(out_m), bits(out_p)) and np.array_equal(bits(rec_m), bits(rec_p))
@@ -105,7 +105,7 @@ def test_mixed_variant_bitwise_identical_to_general(g):
     """The mixed table's own variant (every flag fixed) against the general path (law = PER_ELEMENT at run time)."""
     scene = mixed_cell(g)
     own = kernel_table(scene).variant(layout.RECORD_LOG)
-    assert own[7] is True and own[1] is True and own[4] is False
+    assert own.mixed is True and own.spin is True and own.disks is False
     out_o, rec_o = log_of(scene, 5000)
     out_g, rec_g = log_of(scene, 5000, flags=GENERAL)
     assert np.array_equal(bits(out_o), bits(out_g)) and np.array_equal(bits(rec_o), bits(rec_g))
@@ -131,7 +131,7 @@ def _normals(scene, log):
 def test_walls_reflect_and_keep_the_spin_the_disk_is_noslip(g):
     scene = mixed_cell(g)
     _, log = log_of(scene, 5000)
-    assert kernel_table(scene).variant(1)[7] is True and not kernel_table(scene).disk_lattice
+    assert kernel_table(scene).variant(1).mixed is True and not kernel_table(scene).disk_lattice
     e = log[:, layout.LOG_ELEMENT].astype(int)
     wall, disk = e < 6, e == 6
     assert wall.sum() > 1000 and disk.sum() > 500 and log[:, layout.LOG_CORNER].sum() == 0
@@ -306,9 +306,9 @@ def test_mixed_lattice_runs_the_general_loop():
     on_specular = flt.element.values == 1
     np.testing.assert_array_equal(flt.spin.values[on_specular], flt.spin_in.values[on_specular])
     with pytest.raises(ValueError, match="lean disk loop"):
-        orbit_kernel(False, True, True, 1, True, False, False, True)
+        orbit_kernel(*Variant(True, True, 1, True, False, STRAIGHT, True))
     with pytest.raises(ValueError, match="spin=False"):
-        orbit_kernel(False, False, True, 1, False, False, False, True)
+        orbit_kernel(*Variant(False, True, 1, False, False, STRAIGHT, True))
 
 
 @pytest.mark.parametrize("bad", ["sticky", "No-Slip", 1, ""])

@@ -929,9 +929,8 @@ def test_corridor_hit_precision_two_disks_per_cell_short():
 def general_loop_only(monkeypatch):
     """Run lattice scenes through the general loop (``core/loop.py``), not the lean disk loop."""
     variant = KernelTable.variant
-    monkeypatch.setattr(KernelTable, "variant",
-                        lambda self, mode: (*variant(self, mode)[:4], False, *variant(self, mode)[5:]))
-    assert not kernel_table(tables.sinai_torus(0.1)).variant(1)[4]
+    monkeypatch.setattr(KernelTable, "variant", lambda self, mode: variant(self, mode)._replace(disks=False))
+    assert not kernel_table(tables.sinai_torus(0.1)).variant(1).disks
 
 
 def test_corridor_hit_precision_general_loop_short(monkeypatch):

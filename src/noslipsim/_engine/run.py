@@ -17,7 +17,7 @@ import numpy as np
 from ..core import layout
 from ..core.batch import F_VARIANT, N_FINAL, batch_kernel
 from ..core.loop import orbit_kernel
-from ..core.variant import describe, report
+from ..core.variant import describe, normalise, report
 
 
 class KernelMismatch(RuntimeError):
@@ -49,10 +49,11 @@ def run_orbits(table, starts, *, max_collisions, max_time=math.inf, levels=None,
         Record buffer, written in place (``N_LOG`` or ``N_PORTRAIT`` columns).
     mask : bool ndarray (n_elements,), optional
         Elements a portrait records (default: none).
-    flags : tuple, optional
-        The kernel variant (:func:`noslipsim.core.loop.orbit_kernel`); default
-        ``table.variant(mode)``, the fastest exact one for the table.  Tests and
-        benchmarks pass others (``core.variant.GENERAL``: every flag at run time).
+    flags : Variant or tuple, optional
+        The kernel variant (:class:`noslipsim.core.variant.Variant`, its slots in
+        order); default ``table.variant(mode)``, the fastest exact one for the
+        table.  Tests and benchmarks pass others (``core.variant.GENERAL``: every
+        slot at run time).
     ceilings : array_like (N,), optional
         The top of a bounded lattice (``table.top``) relative to each start
         cell; required when ``table.top`` is finite, ``inf`` otherwise (the default).
@@ -66,6 +67,8 @@ def run_orbits(table, starts, *, max_collisions, max_time=math.inf, levels=None,
 
     Raises
     ------
+    ValueError
+        ``flags`` is no variant (:func:`noslipsim.core.variant.normalise`).
     KernelMismatch
         The kernel that ran reports another variant than ``flags``.
     """
@@ -85,7 +88,7 @@ def run_orbits(table, starts, *, max_collisions, max_time=math.inf, levels=None,
         ceilings = np.ascontiguousarray(ceilings, dtype=np.float64)
         if ceilings.shape != (n,) or np.isnan(ceilings).any():
             raise ValueError(f"ceilings: expected {n} heights (or inf), got shape {ceilings.shape}")
-    flags = table.variant(mode) if flags is None else tuple(flags)
+    flags = table.variant(mode) if flags is None else normalise(*flags)  # a slot out of place raises here
     final = np.zeros((n, N_FINAL))
     args = (*table.arrays(), table.law, table.c, table.s, table.ax, table.ay, table.thermostat)
     if n:

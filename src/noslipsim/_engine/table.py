@@ -97,26 +97,29 @@ class KernelTable:
     magnetic: float = 0.0
 
     def variant(self, mode):
-        """The compile-time flags of the event loop for this table and record mode.
+        """The compile-time slots of the event loop for this table and record mode.
 
-        ``(force, spin, lattice, mode, disks, walls, flight, mixed)``, each an
-        exact bool (the record mode and the flight ints, :mod:`noslipsim.core.variant`):
-        a scene without force never pays for cubic or quartic exits, a specular one
-        for spin updates, a plain one for the cell walk, ``RECORD_NONE`` for the
-        recorder (a recording run reads its mode at run time, :func:`recording_slot`),
-        a table without long walls for their exact check, a scene
-        without the thermostat or a field for those flights, a table of one law
-        for per-element laws (:func:`noslipsim.core.loop.orbit_kernel`).
+        A :class:`noslipsim.core.variant.Variant` ``(spin, lattice, mode, disks,
+        walls, flight, mixed)``, each slot an exact bool (the record mode and the
+        flight ints): a scene without force never pays for cubic or quartic
+        exits, a specular one for spin updates, a plain one for the cell walk,
+        ``RECORD_NONE`` for the recorder (a recording run reads its mode at run
+        time, :func:`recording_slot`), a table without long walls for their exact
+        check, a scene without the thermostat or a field for those flights, a
+        table of one law for per-element laws
+        (:func:`noslipsim.core.loop.orbit_kernel`).
         """
-        return (self.has_force, self.noslip, self.lattice, recording_slot(mode), self.disk_lattice, self.long_walls,
-                self.flight, self.mixed)
+        return variant.normalise(spin=self.noslip, lattice=self.lattice, mode=recording_slot(mode),
+                                 disks=self.disk_lattice, walls=self.long_walls, flight=self.flight, mixed=self.mixed)
 
     @property
     def flight(self):
-        """The flight's code (:mod:`noslipsim.core.variant`): free, thermostat or magnetic."""
+        """The flight's code (:mod:`noslipsim.core.variant`): straight, force, thermostat or magnetic."""
         if self.magnetic != 0.0:
             return variant.MAGNETIC
-        return variant.THERMOSTAT if self.thermostat else variant.FREE
+        if not self.has_force:
+            return variant.STRAIGHT
+        return variant.THERMOSTAT if self.thermostat else variant.FORCE
 
     @property
     def one_disk_per_cell(self):

@@ -22,7 +22,7 @@ N_FINAL = 13
 
 @functools.cache
 def batch_kernel(flags=GENERAL):
-    """The batch loop around the orbit kernel variant ``orbit_kernel(*flags)``.
+    """The batch loop around the orbit kernel variant ``orbit_kernel(*flags)`` (``flags``: a :class:`variant.Variant`).
 
     Arguments: ``starts[i] = (x, y, vx, vy, w)`` relative to the start cell;
     ``start_elements[i]`` is ``-1`` or the element the orbit starts on;

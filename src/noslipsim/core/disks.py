@@ -64,7 +64,7 @@ from .layout import (
 from .records import record
 from .roots import linear_exit
 from .tolerances import MAX_CELLS_PER_FLIGHT
-from .variant import variant_code
+from .variant import Variant, variant_code
 
 INF = math.inf
 
@@ -476,7 +476,7 @@ def _disk_loop(spin, mode, one):
     MODE_RT = mode is None
     MODE = RECORD_LOG if mode is None else int(mode)
     ONE = bool(one)
-    VARIANT = variant_code((False, spin, True, mode, True, False, False))  # reported with every result
+    VARIANT = variant_code(Variant(spin=spin, mode=mode, disks=True))  # reported with every result
 
     @jit
     def disk_loop(params, copies, A, B, law, c, s, x, y, vx, vy, w, max_collisions, max_time, stop_below, mode,

@@ -44,36 +44,22 @@ from .layout import (
 )
 from .records import record
 from .tolerances import EXTENT_TOL
-from .variant import MAGNETIC, THERMOSTAT, normalise, variant_code
+from .variant import flight_switches, normalise, variant_code
 
 INF = math.inf
-def kernel_flags(has_force, noslip, lattice, mode, disks=False, walls=False, flight=0, mixed=False):
-    """The variant key for a scene: what its kernel needs, fixed at compile time."""
-    return (bool(has_force), bool(noslip), bool(lattice), int(mode), bool(disks), bool(walls), int(flight),
-            bool(mixed))
-
-
-def _refuse_mixed(spin, disks, mixed):
-    """A mixed table (``mixed=True``) has a no-slip element, and the lean disk loop knows one law."""
-    if mixed and spin is False:
-        raise ValueError("orbit_kernel: a mixed table (mixed=True) has a no-slip element; spin=False would make "
-                         "every collision specular")
-    if mixed and disks:
-        raise ValueError("orbit_kernel: the lean disk loop (disks=True) knows one law; a mixed table "
-                         "(mixed=True) runs the general loop")
-
-
 @functools.cache
-def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, walls=None, flight=None,
-                 mixed=None):
+def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, flight=None, mixed=None):
     """The event loop compiled for one kind of scene: a scene pays only for what it needs.
 
-    Each flag is a compile-time constant (``True``/``False``, or a record
-    mode), so the compiler drops the code a scene cannot reach: the cubic and
-    quartic exits without a force, the spin update for specular laws, the
-    cell walk for plain scenes, the recorder when nothing is recorded.  A flag
-    left ``None`` is read from the arguments at run time; ``orbit_kernel()``
-    is the general path (:data:`run_orbit`).  Every variant makes the same
+    The arguments are the slots of a :class:`variant.Variant`
+    (``orbit_kernel(*variant)``).  Each is a compile-time constant
+    (``True``/``False``, a record mode, a flight), so the compiler drops the
+    code a scene cannot reach: the cubic and quartic exits without a force,
+    the spin update for specular laws, the cell walk for plain scenes, the
+    recorder when nothing is recorded.  A slot left ``None`` is read from the
+    arguments at run time; ``orbit_kernel()`` is the general path
+    (:data:`run_orbit`).  A combination no scene has raises ``ValueError``
+    (:func:`variant.normalise`).  Every variant makes the same
     floating-point operations on the scenes it serves, so results are
     identical to the general path's, bit for bit.
 
@@ -90,16 +76,18 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
     check's code alone, never run, cost such scenes 2 to 20 % (the Galton
     board the most; ``benchmarks/RESULTS.md``).
 
-    ``flight`` (:mod:`variant`): ``THERMOSTAT`` (or ``True``) flies the force
-    with the Gaussian isokinetic thermostat (:mod:`thermostat`,
+    ``flight`` (:mod:`variant`): ``STRAIGHT`` flies straight lines (no
+    force), ``FORCE`` free fall under the force ``ax, ay``, ``THERMOSTAT``
+    the force with the Gaussian isokinetic thermostat (:mod:`thermostat`,
     :mod:`thermo_flight`), ``MAGNETIC`` turns the velocity at the cyclotron
     frequency ``W`` of a field normal to the table (:mod:`magnetic_flight`;
-    never with a force), ``FREE`` (or ``False``) flies neither; ``None`` reads
-    the ``thermostat`` and ``W`` arguments.  A variant compiles no code of a
-    flight it cannot fly: each of their branches opens with a compile-time
-    constant (``THERMO_ANY``, ``MAG_ANY``; :func:`fly.flight_dispatch`), which
-    numba prunes before typing (and a fixed flight prunes the free fall
-    likewise).  Every flight searches a cell with :func:`search.cell_search`.
+    never with a force); ``None`` reads ``ax, ay``, the ``thermostat`` and
+    ``W`` arguments.  A variant compiles no code of a flight it cannot fly:
+    each of their branches opens with a compile-time constant
+    (:func:`variant.flight_switches`: ``THERMO_ANY``, ``MAG_ANY``, ...;
+    :func:`fly.flight_dispatch`), which numba prunes before typing (and a
+    fixed flight prunes the free fall likewise).  Every flight searches a
+    cell with :func:`search.cell_search`.
 
     ``mixed=True`` (a table whose elements do not all share one law) gives each
     collision, the corner rule's included, the law of the element hit,
@@ -110,14 +98,13 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
     table has a no-slip element, so ``mixed=True`` needs the spin
     (``spin=False`` is the specular law everywhere, whatever the table says).
     """
-    _refuse_mixed(spin, disks, mixed)
-    if disks:
+    variant = normalise(spin, lattice, mode, disks, walls, flight, mixed)  # raises on impossible combinations
+    if variant.disks:
         return disk_lattice_kernel(spin, mode)
-    VARIANT = variant_code((force, spin, lattice, mode, disks, walls, flight, mixed))  # reported with results
-    force, spin, lattice, mode, disks, walls, flight, mixed = normalise(force, spin, lattice, mode, disks, walls,
-                                                                        flight, mixed)
-    FORCE_RT = force is None
-    FORCE = bool(force)
+    VARIANT = variant_code(variant)  # reported with results
+    spin, lattice, mode, disks, walls, flight, mixed = variant
+    # the flights: each branch of one opens with one of these constants (never a thermostat or field for nothing)
+    FORCE_RT, FORCE, THERMO_ANY, THERMO_ALWAYS, THERMO_RT, MAG_ANY, MAG_ALWAYS, FAR_MOVE = flight_switches(variant)
     SPIN_RT = spin is None
     SPIN = bool(spin)
     LATTICE_RT = lattice is None
@@ -126,20 +113,11 @@ def orbit_kernel(force=None, spin=None, lattice=None, mode=None, disks=None, wal
     MODE_RT = mode is None
     MODE = RECORD_LOG if mode is None else int(mode)
     WALLS = walls is None or bool(walls)  # a compile-time constant: False drops the long-wall check
-    # thermostatted flights: compiled in only where they may run (never without a force)
-    THERMO_ANY = force is not False and (flight is None or flight == THERMOSTAT)
-    THERMO_ALWAYS = force is True and flight == THERMOSTAT  # no free fall compiled at all
-    THERMO_RT = flight is None
-    # magnetic flights: compiled in only where they may run (never with a force); at run time, W != 0
-    MAG_ANY = force is not True and (flight is None or flight == MAGNETIC)
-    MAG_ALWAYS = flight == MAGNETIC
     # per-element laws: compiled in only where a table may mix them
     MIXED_ANY = mixed is not False
     MIXED_ALWAYS = mixed is True
     # the law argument read at run time (PER_ELEMENT for a mixed table); spin=False is the specular law throughout
     LAW_KEPT = SPIN_RT or (SPIN and MIXED_ANY)
-    # a far hit under a force, approached by moving the flight's start (cells.far_move): free fall on a lattice
-    FAR_MOVE = force is not False and lattice is not False and not THERMO_ALWAYS
     # the steps (fly.py, bounce.py), each compiled with the constants it reads
     setup = flight_setup(THERMO_ANY, THERMO_RT, MAG_ANY, MAG_ALWAYS)
     fly = flight_dispatch(flight_steps(LATTICE_ALWAYS, LATTICE_RT, WALLS), THERMO_ANY, THERMO_ALWAYS, MAG_ANY,

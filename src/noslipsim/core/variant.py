@@ -1,78 +1,180 @@
-"""Kernel variants: the compile-time flags of the event loop, and the number a kernel reports them by.
+"""Kernel variants: the compile-time slots of the event loop, and the number a kernel reports them by.
 
-A variant is the tuple ``(force, spin, lattice, mode, disks, walls, flight, mixed)``
+A variant is a :class:`Variant`, ``(spin, lattice, mode, disks, walls, flight, mixed)``
 (:func:`loop.orbit_kernel`): each slot ``True``/``False`` (a record mode for
-``mode``, a flight code for ``flight``: :data:`FREE` (straight, or free fall
-under the force), :data:`THERMOSTAT` or :data:`MAGNETIC`; ``False``/``True``
-read as the first two), or ``None`` for "read from the arguments at run time".  Every orbit
-kernel returns :func:`report` of the variant it was compiled for, a constant
-of its machine code; the caller compares it with :func:`report` of the variant
-it asked for and refuses a result from any other kernel (a wrong entry in the
-compile cache, however it got there).
+``mode``; for ``flight`` one of :data:`STRAIGHT` (no force), :data:`FORCE`
+(free fall under the force), :data:`THERMOSTAT` (the force flown isokinetically)
+or :data:`MAGNETIC` (a field normal to the table, no force)), or ``None`` for
+"read from the arguments at run time".  :func:`normalise` refuses a combination
+no scene can have.  Every orbit kernel returns :func:`report` of the variant it
+was compiled for, a constant of its machine code; the caller compares it with
+:func:`report` of the variant it asked for and refuses a result from any other
+kernel (a wrong entry in the compile cache, however it got there).
 """
+import operator
+from typing import NamedTuple
+
+import numpy as np
+
 from .jit import SOURCE_STAMP
 
-#: Names of the slots, in order.
-SLOTS = ("force", "spin", "lattice", "mode", "disks", "walls", "flight", "mixed")
-#: The general path: every flag read at run time.
-GENERAL = (None, None, None, None, None, None, None, None)
 #: The record modes a ``mode`` slot may hold (``layout.RECORD_*``).
 MODES = (0, 1, 2)
-#: The flights a ``flight`` slot may hold: the force's own (a straight line without one, a parabola
-#: with it), the isokinetic thermostat's (needs a force), the magnetic field's (never with a force).
-FREE = 0
-THERMOSTAT = 1
-MAGNETIC = 2
-FLIGHTS = ("free", "thermostat", "magnetic")
+#: The flights a ``flight`` slot may hold.  A force is flown by :data:`FORCE` or :data:`THERMOSTAT`
+#: only; a magnetic field never comes with a force.
+STRAIGHT = 0
+FORCE = 1
+THERMOSTAT = 2
+MAGNETIC = 3
+#: Names of the flights, by code (as :func:`describe` prints them).
+FLIGHTS = ("straight", "force", "thermostat", "magnetic")
 
-_RUNTIME = 3  # digit of a slot left to run time
+
+class Variant(NamedTuple):
+    """The compile-time slots of one event-loop kernel (``None``: read from the arguments at run time).
+
+    Attributes
+    ----------
+    spin : bool or None
+        Some element is no-slip: the spin update is compiled in.
+    lattice : bool or None
+        A periodic scene: the cell walk is compiled in.
+    mode : int or None
+        The record mode (``layout.RECORD_*``).
+    disks : bool or None
+        The lean disk loop (:func:`disks.disk_lattice_kernel`); ``None`` reads as ``False``.
+    walls : bool or None
+        Some element is a long wall: its exact check is compiled in.
+    flight : int or None
+        :data:`STRAIGHT`, :data:`FORCE`, :data:`THERMOSTAT` or :data:`MAGNETIC`.
+    mixed : bool or None
+        The elements do not all share one law: per-element laws are compiled in.
+    """
+
+    spin: bool | None = None
+    lattice: bool | None = None
+    mode: int | None = None
+    disks: bool | None = None
+    walls: bool | None = None
+    flight: int | None = None
+    mixed: bool | None = None
 
 
-def normalise(force=None, spin=None, lattice=None, mode=None, disks=None, walls=None, flight=None,
-              mixed=None):
+#: Names of the slots, in order.
+SLOTS = Variant._fields
+#: The general path: every slot read at run time.
+GENERAL = Variant()
+
+
+class FlightSwitches(NamedTuple):
+    """The compile-time constants of :func:`loop.orbit_kernel` that a variant's flight (and lattice) decide.
+
+    Each branch of the loop that flies, searches or moves by a force, the
+    thermostat or the field opens with one of these, so numba prunes the code
+    of every flight the variant cannot fly before typing it.
+    """
+
+    force_rt: bool  # whether a force acts is read from ``ax, ay``
+    force: bool  # a force acts (when not read at run time)
+    thermo_any: bool  # thermostatted flights compiled in
+    thermo_always: bool  # every flight thermostatted: no free fall compiled at all
+    thermo_rt: bool  # the ``thermostat`` argument is read
+    mag_any: bool  # magnetic flights compiled in (at run time when ``W != 0``)
+    mag_always: bool  # every flight magnetic
+    far_move: bool  # a far hit under a force approached by moving the flight's start (cells.far_move)
+
+
+def flight_switches(variant):
+    """The :class:`FlightSwitches` of a normalised :class:`Variant`."""
+    flight = variant.flight
+    return FlightSwitches(
+        force_rt=flight is None,
+        force=flight in (FORCE, THERMOSTAT),
+        thermo_any=flight in (None, THERMOSTAT),
+        thermo_always=flight == THERMOSTAT,
+        thermo_rt=flight is None,
+        mag_any=flight in (None, MAGNETIC),
+        mag_always=flight == MAGNETIC,
+        # free fall on a lattice only: a thermostatted flight searches its own way
+        far_move=flight in (None, FORCE) and variant.lattice is not False)
+
+
+_RUNTIME = len(FLIGHTS)  # digit of a slot left to run time
+_BASE = _RUNTIME + 1  # one digit per slot; the widest slot (flight) has len(FLIGHTS) values and run time
+
+
+def normalise(spin=None, lattice=None, mode=None, disks=None, walls=None, flight=None, mixed=None):
     """The variant as the kernel it selects sees it.
 
-    The disk loop (``disks=True``) has no force, walks a lattice, has no
-    walls and one law whatever the other slots say, so those slots are fixed
-    there; a loop without force has no thermostat, a magnetic one no force.
+    Parameters
+    ----------
+    spin, lattice, disks, walls, mixed : bool or None
+    mode : int or None
+        One of :data:`MODES`.
+    flight : int or None
+        One of :data:`STRAIGHT`, :data:`FORCE`, :data:`THERMOSTAT`, :data:`MAGNETIC`.
+
+    Returns
+    -------
+    Variant
+        The disk loop (``disks=True``) has no force, walks a lattice, has no
+        walls and one law whatever the other slots say, so those slots are
+        fixed there; ``disks=None`` reads as ``False`` (the loop is chosen
+        before compiling, never at run time).
+
+    Raises
+    ------
+    ValueError
+        A slot holds a value it cannot take, or the slots describe no scene:
+        a mixed table (``mixed=True``) without the spin (``spin=False``), or
+        in the disk loop.
     """
-    if disks:
-        return False, _flag(spin), True, _mode(mode), True, False, FREE, False
-    flight = _flight(flight)
-    if flight == MAGNETIC:
-        force = False
-    elif force is False and flight == THERMOSTAT:
-        flight = FREE
-    return _flag(force), _flag(spin), _flag(lattice), _mode(mode), False, _flag(walls), flight, _flag(mixed)
+    spin, mixed = _flag("spin", spin), _flag("mixed", mixed)
+    mode, flight = _mode(mode), _flight(flight)
+    if mixed and spin is False:
+        raise ValueError("variant: a mixed table (mixed=True) has a no-slip element; spin=False would make every "
+                         "collision specular")
+    if _flag("disks", disks):
+        if mixed:
+            raise ValueError("variant: the lean disk loop (disks=True) knows one law; a mixed table (mixed=True) "
+                             "runs the general loop")
+        return Variant(spin, True, mode, True, False, STRAIGHT, False)
+    return Variant(spin, _flag("lattice", lattice), mode, False, _flag("walls", walls), flight, mixed)
 
 
-def _flight(value):
+def _flag(name, value):
     if value is None:
         return None
-    if int(value) not in range(len(FLIGHTS)):
-        raise ValueError(f"flight: expected one of {tuple(range(len(FLIGHTS)))} ({', '.join(FLIGHTS)}) or None, "
-                         f"got {value!r}")
-    return int(value)
-
-
-def _flag(value):
-    return None if value is None else bool(value)
+    # an int here is a slot out of place (a mode or flight code), not a truth value
+    if not isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name}: expected True, False or None, got {value!r}")
+    return bool(value)
 
 
 def _mode(value):
     if value is None:
         return None
-    if int(value) not in MODES:
+    if operator.index(value) not in MODES:
         raise ValueError(f"mode: expected one of {MODES} or None, got {value!r}")
-    return int(value)
+    return operator.index(value)
+
+
+def _flight(value):
+    if value is None:
+        return None
+    # a bool is the old spelling (True: the thermostat), which no longer names a flight
+    if isinstance(value, (bool, np.bool_)) or operator.index(value) not in range(len(FLIGHTS)):
+        codes = ", ".join(f"{code} ({name})" for code, name in enumerate(FLIGHTS))
+        raise ValueError(f"flight: expected one of {codes} or None, got {value!r}")
+    return operator.index(value)
 
 
 def variant_code(flags):
-    """The variant (normalised) as a small integer: one base-4 digit per slot."""
+    """The variant (normalised) as a small integer: one base-5 digit per slot, in :data:`SLOTS` order."""
     code = 0
     for value in normalise(*flags):
         digit = _RUNTIME if value is None else int(value)
-        code = 4 * code + digit
+        code = _BASE * code + digit
     return code
 
 
@@ -81,23 +183,39 @@ def report(flags):
     return (variant_code(flags) << 32) | SOURCE_STAMP
 
 
-def describe(reported):
-    """A reported number as text: ``force=True, spin=False, ... (core sources 1a2b3c4d)``."""
+def decode(reported):
+    """A reported number as ``(variant, stamp)``: the slots (a digit no slot value has as text, ``"?3"``) and the
+    32-bit core source stamp."""
     reported = int(reported)
     code, stamp = reported >> 32, reported & 0xFFFFFFFF
     digits = []
     for _ in SLOTS:
-        digits.append(code % 4)
-        code //= 4
-    parts = [f"{name}={_digit_text(name, d)}" for name, d in zip(SLOTS, reversed(digits))]
+        digits.append(code % _BASE)
+        code //= _BASE
+    values = [_slot_value(name, digit) for name, digit in zip(SLOTS, reversed(digits), strict=True)]
+    return Variant(*values), stamp
+
+
+def _slot_value(name, digit):
+    if digit == _RUNTIME:
+        return None
+    if name == "flight":
+        return digit
+    if name == "mode":
+        return digit if digit in MODES else f"?{digit}"
+    return bool(digit) if digit < 2 else f"?{digit}"
+
+
+def describe(reported):
+    """A reported number as text: ``spin=True, lattice=False, ..., flight=force, ... (core sources 1a2b3c4d)``."""
+    variant, stamp = decode(reported)
+    parts = [f"{name}={_slot_text(name, value)}" for name, value in zip(SLOTS, variant, strict=True)]
     return f"{', '.join(parts)} (core sources {stamp:08x})"
 
 
-def _digit_text(name, digit):
-    if digit == _RUNTIME:
+def _slot_text(name, value):
+    if value is None:
         return "runtime"
-    if name == "mode":
-        return str(digit)
     if name == "flight":
-        return FLIGHTS[digit]
-    return str(bool(digit))
+        return FLIGHTS[value]
+    return str(value)
