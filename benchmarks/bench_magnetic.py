@@ -3,9 +3,9 @@
 Each pair runs one table twice, without a field and with ``magnetic: W``, through ``simulate_many`` (the
 batch kernel each scene's variant selects; process CPU time, best of three, after a warm-up that compiles
 or loads it).  A Sinai torus without a field runs the lean disk loop (``core/disks.py``), which no other
-flight has; the general loop's rate on it (``--general-torus``) is the like-for-like comparison.  Prints
-collisions per second of each and the ratio straight / magnetic (the cost of a magnetic collision in
-straight ones), with the machine line.
+flight has; the general loop's rate on it (the ``(general loop)`` row: the lean loop's variant with
+``disks=False``) is the like-for-like comparison.  Prints collisions per second of each and the ratio
+straight / magnetic (the cost of a magnetic collision in straight ones), with the machine line.
 
     python benchmarks/bench_magnetic.py [--orbits 16] [--collisions 100000]
 """
@@ -60,7 +60,8 @@ def main():
             magnetic = rate(plain.replace(magnetic=W), start, args.orbits, args.collisions)
             print(f"{name:<22}{law:<10}{straight / 1e6:>14.3f}{magnetic / 1e6:>14.3f}{straight / magnetic:>8.2f}")
             if kernel_table(plain).disk_lattice:  # the general loop on the same torus, like for like
-                flags = (*kernel_table(plain).variant(layout.RECORD_NONE)[:4], False, False, 0, False)
+                # the lean loop's own slots (straight, lattice, no walls, one law), the general loop instead
+                flags = kernel_table(plain).variant(layout.RECORD_NONE)._replace(disks=False)
                 general = rate(plain, start, args.orbits, args.collisions, flags)
                 print(f"{'  (general loop)':<22}{law:<10}{general / 1e6:>14.3f}{magnetic / 1e6:>14.3f}"
                       f"{general / magnetic:>8.2f}")
