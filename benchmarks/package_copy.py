@@ -30,9 +30,14 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from noslipsim.core.variant import FORCE, MAGNETIC, STRAIGHT, THERMOSTAT, Variant
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 #: The integer ones among the 12 outputs (n, stop, n_corner, n_rec, m1, m2).
 INTS = (0, 1, 2, 3, 10, 11)
+#: A flight (:mod:`noslipsim.core.variant`) as the ``flight`` slot of the 8-slot tuple before
+#: :class:`~noslipsim.core.variant.Variant` coded it: free (straight or free fall), thermostat, magnetic.
+OLD_FLIGHT = {STRAIGHT: 0, FORCE: 0, THERMOSTAT: 1, MAGNETIC: 2}
 
 
 def package_copy(commit, name, where, fresh=False):
@@ -99,9 +104,13 @@ class OldLoop:
     ``run`` calls the package's serial batch loop (``core.batch.batch_kernels(flags)[1]``)
     where it has one: like ``run_orbits`` in the current package, a compiled loop over
     orbits around the orbit kernel, so old and new are timed through the same kind of
-    call; else the orbit kernel (``core.loop.orbit_kernel(*flags)``) directly.  Flags
-    are cut to the slots the package knows (``walls`` came after ``disks``): its loop
-    has what a later slot would leave out.
+    call; else the orbit kernel (``core.loop.orbit_kernel(*flags)``) directly.
+
+    Flags are either a tuple in the package's own order, cut to the slots it knows
+    (``walls`` came after ``disks``: its loop has what a later slot would leave out),
+    or a current :class:`~noslipsim.core.variant.Variant`, spelt in the package's
+    slots by name (:func:`old_flags`) where they start with ``force`` (every package
+    without ``run_orbits`` does), as it is where the package has the same order.
     """
 
     def __init__(self, name):
@@ -111,10 +120,13 @@ class OldLoop:
             self.batch = importlib.import_module(f"{name}.core.batch").batch_kernels
         except (ImportError, AttributeError):
             self.batch = None
-        self.slots = len(inspect.signature(self.loop.orbit_kernel).parameters)
+        self.slots = tuple(inspect.signature(self.loop.orbit_kernel).parameters)
 
     def flags(self, flags):
-        return tuple(flags)[:self.slots]
+        """``flags`` as the package's ``orbit_kernel`` takes them."""
+        if isinstance(flags, Variant) and "force" in self.slots:
+            return old_flags(flags, self.slots)
+        return tuple(flags)[:len(self.slots)]
 
     def run(self, table, flags, start, n, mode, rec=None, mask=None, start_element=-1, max_time=math.inf,
             level=-math.inf):
@@ -138,6 +150,30 @@ class OldLoop:
         self.batch(flags)[1](*head, np.array([start], dtype=np.float64), np.array([start_element], dtype=np.int64),
                              n, max_time, np.array([level]), table.scale, mode, rec[None], mask, final)
         return outputs(final[0])
+
+
+def old_flags(variant, slots):
+    """A :class:`~noslipsim.core.variant.Variant` in the slots ``slots`` of an old ``orbit_kernel``.
+
+    The old slots, in their order: ``force`` (a force flown: a :data:`FORCE` or
+    :data:`THERMOSTAT` flight), ``spin``, ``lattice``, ``mode``, ``disks``,
+    ``walls``, then ``thermostat`` (a bool) or ``flight`` (:data:`OLD_FLIGHT`), and
+    ``mixed``.  ``None`` (run time) stays ``None`` in every slot the flight fills.
+
+    Raises
+    ------
+    ValueError
+        ``slots`` names a slot no old package had.
+    """
+    flight = variant.flight
+    known = variant._asdict()
+    if flight is not None:
+        known.update(force=flight in (FORCE, THERMOSTAT), thermostat=flight == THERMOSTAT, flight=OLD_FLIGHT[flight])
+    else:
+        known.update(force=None, thermostat=None)
+    if not set(slots) <= set(known):
+        raise ValueError(f"old_flags: {sorted(set(slots) - set(known))} is no slot of an old orbit_kernel")
+    return tuple(known[name] for name in slots)
 
 
 def old_table(scene):
