@@ -1,7 +1,9 @@
 """Ablation of the event-loop specialisations (issue: pay only for what a scene needs, measured).
 
-``orbit_kernel(force, spin, lattice, mode, disks, walls)`` fixes each flag at compile
-time (``None`` = read it from the arguments: the general path).  Each row times one
+``orbit_kernel(spin, lattice, mode, disks, walls, flight, mixed)`` (a
+``core.variant.Variant``) fixes each slot at compile time (``None`` = read it from
+the arguments: the general path); the flight slot is what a force flag was
+(``STRAIGHT`` or ``FORCE`` fixed, or ``None``).  Each row times one
 orbit of ~2e6 collisions (best of three, after a compile warm-up) with a
 baseline kernel and a specialised one on the SAME scene and start, and checks
 that the two final states (the 12 outputs of the kernel: the first 12 summary
@@ -13,10 +15,11 @@ nothing against 2e6 collisions; before, the orbit kernels were called directly).
 Sections:
 
 * straight flights: pentagon and Sinai box, specular and no-slip, through the
-  force code (``force=True`` on a zero force: exact-zero leading coefficients,
-  so the same roots) against the scene's own variant;
-* per flag: the same scenes, each flag specialised alone (the others
-  ``None``), force and lattice together, and all of them;
+  force code (``flight=FORCE`` on a zero force: exact-zero leading coefficients,
+  so the same roots) against the scene's own flight (``STRAIGHT``), the slots
+  ``spin, lattice, mode`` fixed in both;
+* per flag: the same scenes, each of ``flight, spin, lattice, mode`` specialised
+  alone (the others ``None``), flight and lattice together, and all four;
 * no spin bookkeeping: specular tables, ``spin=None`` vs ``spin=False`` with the
   other flags already fixed;
 * lean recorder: ``RECORD_LOG`` (full log array) vs ``RECORD_NONE`` on the same
@@ -43,7 +46,9 @@ Sections:
 
 Run: ``python benchmarks/ablation.py`` (writes ``benchmarks/results/ablation.md`` too);
 ``python benchmarks/ablation.py --only "several disks per cell"`` runs one section and
-replaces only its rows in the written table.
+replaces only its rows in the written table; ``--quick`` times orbits of ``QUICK_N``
+collisions, once, and writes nothing (a check that every section runs, not a
+measurement).
 """
 import argparse
 import datetime
@@ -59,7 +64,7 @@ from noslipsim._engine.lattice import lattice_matrix
 from noslipsim._engine.run import run_orbits
 from noslipsim._engine.table import kernel_table
 from noslipsim.core import layout
-from noslipsim.core.variant import GENERAL
+from noslipsim.core.variant import FLIGHTS, FORCE, GENERAL, STRAIGHT, Variant
 from noslipsim.simulate import start_cell
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -70,6 +75,10 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 OUT = os.path.join(HERE, "results", "ablation.md")
 N = 2_000_000
 REPEAT = 3
+#: Collisions per timed orbit with ``--quick`` (timed once).
+QUICK_N = 20_000
+#: The slots the general loop fixes in these rows (the old ``force, spin, lattice, mode``): the rest run time.
+CORE = ("spin", "lattice", "mode", "flight")
 NONE, LOG = layout.RECORD_NONE, layout.RECORD_LOG
 
 PENTAGON = tables.regular_polygon(5)
@@ -98,13 +107,18 @@ STARTS = {  # scene name -> start (q, v, w)
 
 
 def label(flags):
-    """``orbit_kernel(...)`` call text for a flag tuple (the variant ``run_orbits(..., flags=...)`` runs)."""
+    """``orbit_kernel(...)`` call text for a :class:`Variant` (the variant ``run_orbits(..., flags=...)`` runs)."""
     if all(f is None for f in flags):
         return "general"
-    names = ("force", "spin", "lattice", "mode", "disks", "walls")
     modes = {NONE: "NONE", LOG: "LOG", layout.RECORD_PORTRAIT: "PORTRAIT"}
-    parts = [f"{n}={modes[f] if n == 'mode' else f}" for n, f in zip(names, flags) if f is not None]
+    texts = {"mode": modes.get, "flight": FLIGHTS.__getitem__}
+    parts = [f"{n}={texts.get(n, str)(f)}" for n, f in zip(Variant._fields, flags, strict=True) if f is not None]
     return ", ".join(parts)
+
+
+def fixed(flags, *names):
+    """The variant with only the slots ``names`` of ``flags`` fixed, the others read at run time."""
+    return Variant(**{n: getattr(flags, n) for n in names})
 
 
 def own_variant(scene, mode):
@@ -273,9 +287,9 @@ def disk_cells(rows, law, n_check=1000):
     scene = TORUS.replace(law=law)
     flags = own_variant(scene, NONE)
     orbit = Orbit(scene, *STARTS[name])
-    (rate_g, rate_l), _ = timed(orbit, [(flags[:4], NONE), (flags, NONE)])
+    (rate_g, rate_l), _ = timed(orbit, [(fixed(flags, *CORE), NONE), (flags, NONE)])
     log = np.zeros((n_check + 1, layout.N_LOG))
-    orbit.run(own_variant(scene, LOG)[:4], n_check + 1, LOG, log)
+    orbit.run(fixed(own_variant(scene, LOG), *CORE), n_check + 1, LOG, log)
     lean_log = own_variant(scene, LOG)
     one = np.zeros((1, layout.N_LOG))
     agree = 0
@@ -293,7 +307,7 @@ def disk_cells(rows, law, n_check=1000):
         same_cell = (out[10] + cell[0], out[11] + cell[1]) == (b[layout.LOG_CELL_A1], b[layout.LOG_CELL_A2])
         agree += out[0] == 1 and same_cell and dev <= 1e-12
         worst = max(worst, dev)
-    rows.append(("one disk per cell", f"{name}, {law}", label(flags[:4]), label(flags), rate_g, rate_l,
+    rows.append(("one disk per cell", f"{name}, {law}", label(fixed(flags, *CORE)), label(flags), rate_g, rate_l,
                  f"per flight: {agree}/{n_check} agree (max dev {worst:.1e})"))
     print(fmt_row(rows[-1]), flush=True)
 
@@ -339,12 +353,12 @@ def several_disks(rows, name, law, n_check=1000):
     """
     scene = canonical_form(SEVERAL_DISKS[name].replace(law=law)).scene
     flags = own_variant(scene, NONE)
-    assert flags[4] is True
+    assert flags.disks is True
     q = inside_start(scene)
     orbit = Orbit(scene, q, (0.83, 0.41), 0.1)
-    (rate_g, rate_l), _ = timed(orbit, [(flags[:4], NONE), (flags, NONE)])
+    (rate_g, rate_l), _ = timed(orbit, [(fixed(flags, *CORE), NONE), (flags, NONE)])
     log = np.zeros((n_check + 1, layout.N_LOG))
-    general_log = own_variant(scene, LOG)[:4]
+    general_log = fixed(own_variant(scene, LOG), *CORE)
     lean_log = own_variant(scene, LOG)
     orbit.run(general_log, n_check + 1, LOG, log)
     one_g = np.zeros((1, layout.N_LOG))
@@ -372,7 +386,7 @@ def several_disks(rows, name, law, n_check=1000):
     n_disks = len(scene.elements)
     copies = len(kernel_table(scene).copies)
     rows.append(("several disks per cell", f"{name} ({n_disks} disks, {copies} copies reach a cell), {law}",
-                 label(flags[:4]), label(flags), rate_g, rate_l,
+                 label(fixed(flags, *CORE)), label(flags), rate_g, rate_l,
                  f"per flight: {agree}/{n_check} agree (max dev {worst:.1e})"))
     print(fmt_row(rows[-1]), flush=True)
 
@@ -397,41 +411,26 @@ def update_section(section, rows, note):
         fh.write("\n".join(lines) + "\n")
 
 
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--only", choices=["several disks per cell"], help="run one section, replace its rows")
-    args = ap.parse_args()
-    if args.only:
-        rows = []
-        for name in SEVERAL_DISKS:
-            for law in ("specular", "no-slip"):
-                several_disks(rows, name, law)
-        when = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
-        load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
-        update_section(args.only, rows, SEVERAL_NOTE.format(when=when, start="inside the cell", load=load))
-        print(f"\nrows of '{args.only}' written to {os.path.relpath(OUT)}")
-        return
-    machine = machine_line(numpy=True)
-    print(machine)
-    print(f"collisions/s of one orbit of {N:,} collisions, best of {REPEAT}, after a compile warm-up\n")
-    print(HEADER, flush=True)
+def all_rows():
+    """Every section's rows, in the table's order (each printed as it is measured)."""
     rows = []
     G = GENERAL
     # straight flights, per flag
     for name, base in (("pentagon", PENTAGON), ("Sinai box", SINAI_BOX)):
         for law in ("specular", "no-slip"):
             scene = base.replace(law=law)
-            f, s, lat, m = own_variant(scene, NONE)[:4]
+            own = own_variant(scene, NONE)
             # what straight flights buy: the same scene through the force code (degree 4 and 3,
             # leading coefficients exactly zero) against its own variant
-            compare(rows, "straight flights", name, scene, (True, s, lat, m), (f, s, lat, m))
-            for variant in ((f, None, None, None), (None, s, None, None), (None, None, lat, None),
-                            (None, None, None, m), (f, None, lat, None), (f, s, lat, m)):
-                compare(rows, "per flag", name, scene, G, variant)
+            compare(rows, "straight flights", name, scene, fixed(own, *CORE)._replace(flight=FORCE),
+                    fixed(own, *CORE))
+            for slots in (("flight",), ("spin",), ("lattice",), ("mode",), ("lattice", "flight"), CORE):
+                compare(rows, "per flag", name, scene, G, fixed(own, *slots))
     # no spin bookkeeping (specular), on top of the other specialisations
     for name, base in (("Sinai box", SINAI_BOX), ("pentagon", PENTAGON)):
         scene = base.replace(law="specular")
-        compare(rows, "no spin bookkeeping", name, scene, (False, None, False, NONE), (False, False, False, NONE))
+        fixed_rest = Variant(lattice=False, mode=NONE, flight=STRAIGHT)
+        compare(rows, "no spin bookkeeping", name, scene, fixed_rest, fixed_rest._replace(spin=False))
     # lean recorder: same kernel, full log vs nothing; and general (runtime mode) vs specialised
     for name, scene in (("Sinai box", SINAI_BOX), ("pentagon", PENTAGON.replace(law="specular")),
                         ("Galton board", GALTON)):
@@ -441,18 +440,28 @@ def main():
     for name, base in (("circle + gravity", CIRCLE_G), ("Galton board", GALTON)):
         for law in ("no-slip", "specular"):
             scene = base.replace(law=law)
-            f, s, lat, m = own_variant(scene, NONE)[:4]
-            for variant in ((f, None, None, None), (None, None, lat, None), (f, s, lat, m)):
-                compare(rows, "force", name, scene, G, variant)
+            own = own_variant(scene, NONE)
+            for slots in (("flight",), ("lattice",), CORE):
+                compare(rows, "force", name, scene, G, fixed(own, *slots))
     # lattice: the cell walk vs explicit copies, and the lean loop of one disk per cell
     for law in ("no-slip", "specular"):
         neighbour_cells(rows, law)
     for law in ("no-slip", "specular"):
         disk_cells(rows, law)
+    return rows + several_disk_rows()
+
+
+def several_disk_rows():
+    """The rows of the section "several disks per cell"."""
+    rows = []
     for name in SEVERAL_DISKS:
         for law in ("specular", "no-slip"):
             several_disks(rows, name, law)
+    return rows
 
+
+def write_table(machine, rows):
+    """Write the whole table to ``OUT``."""
     when = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
     with open(OUT, "w", encoding="utf-8") as fh:
         fh.write("# Ablation: what each event-loop specialisation buys\n\n")
@@ -474,6 +483,34 @@ def main():
         fh.write(HEADER + "\n")
         for r in rows:
             fh.write(fmt_row(r) + "\n")
+
+
+def main():
+    global N, REPEAT  # --quick: a smaller size for every section
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--only", choices=["several disks per cell"], help="run one section, replace its rows")
+    ap.add_argument("--quick", action="store_true",
+                    help=f"orbits of {QUICK_N:,} collisions, timed once; print the rows, write nothing")
+    args = ap.parse_args()
+    if args.quick:
+        N, REPEAT = QUICK_N, 1
+    if args.only:
+        rows = several_disk_rows()
+        if not args.quick:
+            when = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
+            load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
+            update_section(args.only, rows, SEVERAL_NOTE.format(when=when, start="inside the cell", load=load))
+            print(f"\nrows of '{args.only}' written to {os.path.relpath(OUT)}")
+        return
+    machine = machine_line(numpy=True)
+    print(machine)
+    print(f"collisions/s of one orbit of {N:,} collisions, best of {REPEAT}, after a compile warm-up\n")
+    print(HEADER, flush=True)
+    rows = all_rows()
+    if args.quick:
+        print("\n--quick: nothing written")
+        return
+    write_table(machine, rows)
     print(f"\nwritten to {os.path.relpath(OUT)}")
 
 

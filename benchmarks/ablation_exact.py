@@ -5,8 +5,8 @@ same process from a copy of its sources under the package name ``noslipsim_old``
 (``git archive``; the package imports itself only relatively, and the copy keeps its
 own numba cache).  Both kernels get the same kernel inputs, the current kernel table
 (``kernel_table(scene)``; the new layout's extra columns are ignored by the old loop),
-on each scene's own kernel variant (``table.variant(RECORD_NONE)``, cut to the
-base's five flags for the old loop): the Sinai torus and the hexagonal Lorentz
+on each scene's own kernel variant (``table.variant(RECORD_NONE)``, spelt in the
+base's five flags for the old loop, ``package_copy.OldLoop``): the Sinai torus and the hexagonal Lorentz
 cell (lean loop, ``core/disks.py``), the Galton board (general lattice loop under a
 force), the pentagon and the Sinai box (plain scenes: the segment crossing changed).
 The new kernel runs through the package's one kernel call (``run_orbits``), the old
@@ -31,8 +31,11 @@ cell) must agree to 1e-12.
 
 Run: ``python benchmarks/ablation_exact.py`` (appends its table to
 ``benchmarks/results/ablation.md``;
-``ABLATION_ROUNDS`` sets the rounds, ``ABLATION_BASE`` the commit).
+``ABLATION_ROUNDS`` sets the rounds, ``ABLATION_BASE`` the commit);
+``--quick`` runs ``QUICK_ROUNDS`` rounds of ``QUICK_N`` collisions and appends nothing
+(a check that it runs, not a measurement).
 """
+import argparse
 import datetime
 import os
 import sys
@@ -45,7 +48,7 @@ from noslipsim import tables
 from noslipsim.core import layout
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ablation import Orbit, own_variant
+from ablation import Orbit, label, own_variant
 from machine import machine_line
 from package_copy import OldLoop, package_copy
 
@@ -59,6 +62,9 @@ N_CHECK = 1000
 ROUNDS = int(os.environ.get("ABLATION_ROUNDS", "25"))
 N_TIMED = 1_000_000
 TOL = 1e-12
+#: Rounds and collisions per timed orbit with ``--quick``.
+QUICK_ROUNDS = 3
+QUICK_N = 20_000
 
 SCENES = {  # name -> (scene, start q, v, w)
     "Sinai torus r=0.25": (tables.sinai_torus(0.25), (0.45, 0.1), (0.83, 0.41), 0.1),
@@ -130,29 +136,20 @@ def quartiles(x):
     return f"{med:.3f} [{q1:.3f}, {q3:.3f}]"
 
 
-def main():
-    old = old_package()
-    machine = machine_line(numpy=True, load=True)
-    print(machine)
-    header = ("| scene, law | variant | before (BASE) coll/s, median | after / before, median [quartiles] "
-              "| A/A control | final state after N | per flight (1000, restarted from the old state) |\n"
-              "|---|---|---:|---:|---:|---|---|")
-    print(header, flush=True)
-    rows = []
-    for name, (base, q, v, w) in SCENES.items():
-        for law in ("specular", "no-slip"):
-            scene = base.replace(law=law)
-            flags = own_variant(scene, NONE)
-            orbit = Orbit(scene, q, v, w)
-            rate_old, ratios, control, out_old, out_new = rounds(orbit, old, flags)
-            same = np.array_equal(np.array(out_old, dtype=np.float64).view(np.int64),
-                                  np.array(out_new, dtype=np.float64).view(np.int64))
-            agree, same_bits, worst = per_flight(scene, q, v, w, old)
-            row = (f"| {name}, {law} | {label(flags)} | {rate_old:,.0f} | {quartiles(ratios)} | {quartiles(control)} "
-                   f"| {'bitwise identical' if same else 'differs'} "
-                   f"| {agree}/{N_CHECK} within {TOL:g} (max dev {worst:.1e}), {same_bits}/{N_CHECK} bitwise |")
-            rows.append(row)
-            print(row, flush=True)
+def scene_row(name, scene, q, v, w, old):
+    """One table row: the rounds, the final states' bits and the per-flight check of one scene."""
+    flags = own_variant(scene, NONE)
+    rate_old, ratios, control, out_old, out_new = rounds(Orbit(scene, q, v, w), old, flags)
+    same = np.array_equal(np.array(out_old, dtype=np.float64).view(np.int64),
+                          np.array(out_new, dtype=np.float64).view(np.int64))
+    agree, same_bits, worst = per_flight(scene, q, v, w, old)
+    return (f"| {name}, {scene.law} | {label(flags)} | {rate_old:,.0f} | {quartiles(ratios)} | {quartiles(control)} "
+            f"| {'bitwise identical' if same else 'differs'} "
+            f"| {agree}/{N_CHECK} within {TOL:g} (max dev {worst:.1e}), {same_bits}/{N_CHECK} bitwise |")
+
+
+def append_table(machine, header, rows):
+    """Append the section, its note and ``rows`` to ``OUT``."""
     when = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
     with open(OUT, "a", encoding="utf-8") as fh:
         fh.write("\n## The kernels against the wave's start (issue 13): exact long flights, energy kept\n\n")
@@ -170,12 +167,33 @@ def main():
                  "kernels restarted from the old kernel's state after each of the first 1000 collisions; "
                  "deviations of time, velocity, spin (absolute) and position (relative to max(scale, |q|)).\n\n")
         fh.write(header + "\n" + "\n".join(rows) + "\n")
+
+
+def main():
+    global ROUNDS, N_TIMED  # --quick: a smaller size for every scene
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true",
+                    help=f"{QUICK_ROUNDS} rounds of {QUICK_N:,} collisions; print the rows, append nothing")
+    args = ap.parse_args()
+    if args.quick:
+        ROUNDS, N_TIMED = QUICK_ROUNDS, QUICK_N
+    old = old_package()
+    machine = machine_line(numpy=True, load=True)
+    print(machine)
+    header = ("| scene, law | variant | before (BASE) coll/s, median | after / before, median [quartiles] "
+              "| A/A control | final state after N | per flight (1000, restarted from the old state) |\n"
+              "|---|---|---:|---:|---:|---|---|")
+    print(header, flush=True)
+    rows = []
+    for name, (base, q, v, w) in SCENES.items():
+        for law in ("specular", "no-slip"):
+            rows.append(scene_row(name, base.replace(law=law), q, v, w, old))
+            print(rows[-1], flush=True)
+    if args.quick:
+        print("\n--quick: nothing appended")
+        return
+    append_table(machine, header, rows)
     print(f"\nappended to {os.path.relpath(OUT)}")
-
-
-def label(flags):
-    names = ("force", "spin", "lattice", "mode", "disks", "walls")
-    return ", ".join(f"{n}={'NONE' if n == 'mode' else f}" for n, f in zip(names, flags, strict=True))
 
 
 if __name__ == "__main__":
