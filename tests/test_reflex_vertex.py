@@ -24,8 +24,11 @@ import math
 
 import numpy as np
 import pytest
+from kernel_call import record_buffer, run_kernel
 
 from noslipsim import Scene, Segment, simulate, simulate_many, tables
+from noslipsim._engine.table import kernel_table
+from noslipsim.core import layout
 from noslipsim.reference import resume_reference, simulate_reference
 
 DPS = 30
@@ -196,3 +199,23 @@ def test_tilted_reflex_vertex_is_left_once_by_both_engines(angle):
                         scheduler="sync").isel(orbit=0)
     assert float(flt.t[0]) > 0.1, "the float64 engine hit edge 2 at the start"
     assert_collisions_agree(ref, flt, scene, what=f"tilted by {angle}")
+
+
+@pytest.mark.parametrize("flight", list(FLIGHTS))
+@pytest.mark.parametrize("lattice", [True, False], ids=["lattice", "plain"])
+def test_the_open_ends_slot_compiles_the_rule_in(lattice, flight):
+    """A table with a reflex junction has the variant slot ``open_ends`` (the rule compiled in); a closed convex
+    table has not.  Compiled out on the diamond, the rule's absence shows: the exact hit on ``P`` is followed
+    by a second one a rounding-sized time later (the double hit the rule exists to prevent)."""
+    q, v, force = FLIGHTS[flight]
+    table = kernel_table(diamond("specular", 0.0, force, lattice))
+    own = table.variant(layout.RECORD_LOG)
+    assert table.open_ends and own.open_ends is True
+    assert not kernel_table(tables.regular_polygon(5)).variant(layout.RECORD_LOG).open_ends
+    gaps = {}
+    for rule in (True, False):
+        rec = record_buffer(layout.RECORD_LOG, 3)
+        run_kernel(table, own._replace(open_ends=rule), q, v, 0.0, 3, layout.RECORD_LOG, rec=rec)
+        gaps[rule] = rec[1, layout.LOG_T] - rec[0, layout.LOG_T]
+    assert gaps[True] > 0.1
+    assert gaps[False] < 1e-12

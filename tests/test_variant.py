@@ -32,7 +32,7 @@ from noslipsim.core.variant import (
 
 BOOLS = (None, False, True)
 VALUES = {"spin": BOOLS, "lattice": BOOLS, "mode": (None, *variant.MODES), "disks": BOOLS, "walls": BOOLS,
-          "flight": (None, STRAIGHT, FORCE, THERMOSTAT, MAGNETIC), "mixed": BOOLS}
+          "flight": (None, STRAIGHT, FORCE, THERMOSTAT, MAGNETIC), "mixed": BOOLS, "open_ends": BOOLS}
 #: Every spelling of a variant, impossible ones included.
 EVERY = [Variant(*values) for values in itertools.product(*(VALUES[name] for name in variant.SLOTS))]
 
@@ -71,14 +71,34 @@ def old_constants(v):
         "MIXED_ANY": mixed is not False, "MIXED_ALWAYS": mixed is True,
         "LAW_KEPT": spin is None or (bool(spin) and mixed is not False),
         "FAR_MOVE": force is not False and lattice is not False and not thermo_always,
+        "OPEN_ENDS": v.open_ends is None or bool(v.open_ends),  # (new with the slot: the cell search's rule)
     }
 
 
 def compiled_constants(kernel):
-    """The constants a kernel's loop captured (what numba compiles in), but the reported variant code."""
-    func = kernel.py_func
-    captured = {name: cell.cell_contents for name, cell in zip(func.__code__.co_freevars, func.__closure__,
-                                                                 strict=True)}
+    """The constants a kernel's loop captured (what numba compiles in), but the reported variant code.
+
+    The loop is named steps (``core/fly.py``, ``core/bounce.py``), each a closure capturing the constants it
+    reads: the constants (upper-case names) are collected from the loop and every step it captures, and a
+    name captured twice must hold one value.
+    """
+    captured = {}
+    seen = set()
+
+    def collect(func):
+        func = getattr(func, "py_func", func)
+        if id(func) in seen or not callable(func) or not getattr(func, "__closure__", None):
+            return
+        seen.add(id(func))
+        for name, cell in zip(func.__code__.co_freevars, func.__closure__, strict=True):
+            value = cell.cell_contents
+            if name.isupper():
+                assert captured.setdefault(name, value) == value, name
+            else:
+                for item in value if isinstance(value, tuple) else (value,):
+                    collect(item)
+
+    collect(kernel)
     captured.pop("VARIANT")
     return captured
 
@@ -86,7 +106,7 @@ def compiled_constants(kernel):
 def test_every_variant_compiles_the_decisions_of_its_old_spelling():
     """Each general-loop variant captures exactly the constants (values and types) its old spelling did."""
     general_loop = [v for v in POSSIBLE if not v.disks]
-    assert len(general_loop) == 3 * 3 * 4 * 2 * 3 * 5 * 3 - 3 * 4 * 2 * 3 * 5  # minus mixed=True, spin=False
+    assert len(general_loop) == (3 * 3 * 4 * 2 * 3 * 5 * 3 - 3 * 4 * 2 * 3 * 5) * 3  # minus mixed=True, spin=False
     for v in general_loop:
         got = compiled_constants(orbit_kernel(*v))
         want = old_constants(normalise(*v))
@@ -106,7 +126,7 @@ def test_the_kernel_table_builds_each_flight():
     # the thermostat on no force flies straight lines (tests/test_thermostat_orbits.py: bit for bit)
     assert kernel_table(box.replace(thermostat="isokinetic")).variant(0).flight == STRAIGHT
     # a disk lattice: the lean loop's fixed slots
-    assert kernel_table(tables.sinai_torus(0.25)).variant(0) == Variant(True, True, 0, True, False, STRAIGHT, False)
+    assert kernel_table(tables.sinai_torus(0.25)).variant(0) == Variant(True, True, 0, True, False, STRAIGHT, False, False)
 
 
 # ------------------------------------------------------------------ impossible spellings
@@ -134,8 +154,8 @@ def test_impossible_variants_are_refused(slots, message):
 
 
 def test_the_old_spellings_are_refused():
-    """Eight slots, or ``force=``: the force is the flight's now (``flight=FORCE``)."""
-    with pytest.raises(TypeError):
+    """The old eight slots, or ``force=``: the force is the flight's now (``flight=FORCE``)."""
+    with pytest.raises(ValueError, match="expected True, False or None"):  # the old slots land one place off
         normalise(True, True, True, 0, False, False, OLD_FREE, False)
     with pytest.raises(TypeError):
         orbit_kernel(force=True)
@@ -153,7 +173,7 @@ def test_run_orbits_refuses_a_bad_variant_before_compiling():
 def test_the_disk_loop_fixes_its_slots():
     for v in POSSIBLE:
         if v.disks:
-            assert normalise(*v) == Variant(v.spin, True, v.mode, True, False, STRAIGHT, False)
+            assert normalise(*v) == Variant(v.spin, True, v.mode, True, False, STRAIGHT, False, False)
 
 
 # ------------------------------------------------------------------ the reported number
@@ -201,11 +221,11 @@ def test_describe_names_the_flight():
     assert "flight=magnetic" in describe(report(Variant(flight=MAGNETIC)))
     assert describe(report(variant.GENERAL)) == (
         f"spin=runtime, lattice=runtime, mode=runtime, disks=False, walls=runtime, flight=runtime, "
-        f"mixed=runtime (core sources {SOURCE_STAMP:08x})")
+        f"mixed=runtime, open_ends=runtime (core sources {SOURCE_STAMP:08x})")
 
 
 def test_describe_marks_a_digit_no_slot_has():
     """A number no kernel reports (a corrupted summary) is still described, its odd digits marked."""
-    junk = (variant_code(Variant(spin=True)) + 2 * 5 ** 6) << 32  # spin's digit 1 + 2: no truth value
+    junk = (variant_code(Variant(spin=True)) + 2 * 5 ** 7) << 32  # spin's digit 1 + 2: no truth value
     assert describe(junk).startswith("spin=?3, ")
 

@@ -100,17 +100,27 @@ class KernelTable:
         """The compile-time slots of the event loop for this table and record mode.
 
         A :class:`noslipsim.core.variant.Variant` ``(spin, lattice, mode, disks,
-        walls, flight, mixed)``, each slot an exact bool (the record mode and the
+        walls, flight, mixed, open_ends)``, each slot an exact bool (the record mode and the
         flight ints): a scene without force never pays for cubic or quartic
         exits, a specular one for spin updates, a plain one for the cell walk,
         ``RECORD_NONE`` for the recorder (a recording run reads its mode at run
         time, :func:`recording_slot`), a table without long walls for their exact
         check, a scene without the thermostat or a field for those flights, a
-        table of one law for per-element laws
+        table of one law for per-element laws, a table without reflex junctions
+        or free ends for the open-end rule
         (:func:`noslipsim.core.loop.orbit_kernel`).
         """
         return variant.normalise(spin=self.noslip, lattice=self.lattice, mode=recording_slot(mode),
-                                 disks=self.disk_lattice, walls=self.long_walls, flight=self.flight, mixed=self.mixed)
+                                 disks=self.disk_lattice, walls=self.long_walls, flight=self.flight, mixed=self.mixed,
+                                 open_ends=self.open_ends)
+
+    @property
+    def open_ends(self):
+        """Some segment or arc has an open end (a reflex junction or a free end: end factor < 1,
+        :mod:`noslipsim._engine.junctions`), so the cell search needs its open-end rule."""
+        pieces = (self.kinds == layout.SEGMENT) | (self.kinds == layout.ARC)
+        open_end = (self.params[:, layout.END_START] < 1.0) | (self.params[:, layout.END_END] < 1.0)
+        return bool(np.any(pieces & open_end))
 
     @property
     def flight(self):

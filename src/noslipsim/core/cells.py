@@ -16,6 +16,7 @@ that grows with the cells walked.  The search windows of successive cells
 share their end points, so no time is left out whatever the rounding of the
 face times.
 """
+import functools
 import math
 
 from . import far_flight, free_flight
@@ -28,10 +29,6 @@ from .roots import quadratic_exit, quadratic_roots
 from .search import cell_search
 
 INF = math.inf
-#: The earliest hit over a cell's copies (:func:`search.cell_search`): near cells, inlined.
-hit_in_cell = cell_search(free_flight)
-#: The same for a cell ``FAR_CELLS`` or more from the flight's start (:mod:`far_flight`), out of line.
-far_hit_in_cell = cell_search(far_flight)
 
 #: The walk tests the copies of a cell this many cells (or more) from the flight's start on the
 #: flight re-centred exactly (:func:`far_hit_in_cell`), and a straight flight's hit found there is
@@ -95,154 +92,190 @@ def _face_time(alpha0, alpha1, face, t_in):
     return max((face - alpha0) / alpha1, t_in)
 
 
-@jit
-def _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
-                   cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling):
-    """:func:`walk_hit` for a flight without force: the incremental grid walk.
+def _straight_walk(hit_in_cell, _walk_straight_far):
+    """:func:`walk_hit`'s walk without force over the cell search ``hit_in_cell``, on to ``_walk_straight_far``."""
+    @jit
+    def _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
+                       cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling):
+        """:func:`walk_hit` for a flight without force: the incremental grid walk.
 
-    ``alpha(t) = a0 + a1 t`` and ``beta(t) = b0 + b1 t`` are the flight's lattice
-    coordinates.  Cell ``(d1, d2)`` is left through the face ``d1 + s1/2`` (``s1``
-    the sign of ``a1``) or ``d2 + s2/2``, whichever comes first; on a tie both
-    indices step (a flight through a lattice point).
-    """
-    s1 = 1 if a1 > 0.0 else -1
-    s2 = 1 if b1 > 0.0 else -1
-    d1 = 0
-    d2 = 0
-    t_in = 0.0
-    ta = _face_time(a0, a1, 0.5 * s1, 0.0) if a1 != 0.0 else INF
-    tb = _face_time(b0, b1, 0.5 * s2, 0.0) if b1 != 0.0 else INF
-    k = 0
-    while k < max_cells:
-        if max(abs(d1), abs(d2)) >= FAR_CELLS:  # a long flight goes on out of line, below (its indices never turn
-            break                               # back); a call in this loop cost the walk a third (Galton board)
-        k += 1
-        t_out = min(ta, tb)
-        t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, 0.0, 0.0, False),
-                                   cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
-        if e >= 0:
-            return t, e, o1, o2, 0
-        if t_out >= t_limit:
-            return INF, -1, 0, 0, 1
-        if ta == t_out:
-            d1 += s1
-            ta = _face_time(a0, a1, d1 + 0.5 * s1, t_out)
-        if tb == t_out:
-            d2 += s2
-            tb = _face_time(b0, b1, d2 + 0.5 * s2, t_out)
-        t_in = t_out
-    if k >= max_cells:
-        return INF, -1, 0, 0, 2
-    return _walk_straight_far(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, cur_e, cur_o1, cur_o2,
-                              t_limit, extent_tol, max_cells - k, ceiling, s1, s2, d1, d2, t_in, ta, tb)
-
-
-@jit  # not inlined: reached by few flights (as disks._disk_walk_far)
-def _walk_straight_far(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, cur_e, cur_o1, cur_o2, t_limit,
-                       extent_tol, max_cells, ceiling, s1, s2, d1, d2, t_in, ta, tb):
-    """:func:`_walk_straight` from its cell ``(d1, d2)`` on, ``FAR_CELLS`` or more from the start:
-    each cell's copies by :func:`far_hit_in_cell`."""
-    for _ in range(max_cells):
-        t_out = min(ta, tb)
-        t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, 0.0, 0.0, False),
+        ``alpha(t) = a0 + a1 t`` and ``beta(t) = b0 + b1 t`` are the flight's lattice
+        coordinates.  Cell ``(d1, d2)`` is left through the face ``d1 + s1/2`` (``s1``
+        the sign of ``a1``) or ``d2 + s2/2``, whichever comes first; on a tie both
+        indices step (a flight through a lattice point).
+        """
+        s1 = 1 if a1 > 0.0 else -1
+        s2 = 1 if b1 > 0.0 else -1
+        d1 = 0
+        d2 = 0
+        t_in = 0.0
+        ta = _face_time(a0, a1, 0.5 * s1, 0.0) if a1 != 0.0 else INF
+        tb = _face_time(b0, b1, 0.5 * s2, 0.0) if b1 != 0.0 else INF
+        k = 0
+        while k < max_cells:
+            if max(abs(d1), abs(d2)) >= FAR_CELLS:  # a long flight goes on out of line, below (its indices never turn
+                break                               # back); a call in this loop cost the walk a third (Galton board)
+            k += 1
+            t_out = min(ta, tb)
+            t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, 0.0, 0.0, False),
                                        cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
-        if e >= 0:
-            return t, e, o1, o2, 0
-        if t_out >= t_limit:
-            return INF, -1, 0, 0, 1
-        if ta == t_out:
-            d1 += s1
-            ta = _face_time(a0, a1, d1 + 0.5 * s1, t_out)
-        if tb == t_out:
-            d2 += s2
-            tb = _face_time(b0, b1, d2 + 0.5 * s2, t_out)
-        t_in = t_out
-    return INF, -1, 0, 0, 2
+            if e >= 0:
+                return t, e, o1, o2, 0
+            if t_out >= t_limit:
+                return INF, -1, 0, 0, 1
+            if ta == t_out:
+                d1 += s1
+                ta = _face_time(a0, a1, d1 + 0.5 * s1, t_out)
+            if tb == t_out:
+                d2 += s2
+                tb = _face_time(b0, b1, d2 + 0.5 * s2, t_out)
+            t_in = t_out
+        if k >= max_cells:
+            return INF, -1, 0, 0, 2
+        return _walk_straight_far(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, cur_e, cur_o1, cur_o2,
+                                  t_limit, extent_tol, max_cells - k, ceiling, s1, s2, d1, d2, t_in, ta, tb)
+
+    return _walk_straight
 
 
-@jit  # not inlined: reached by few flights
-def _walk_force_far(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2,
-                    t_limit, extent_tol, max_cells, ceiling, d1, d2, t_in):
-    """:func:`walk_hit`'s walk under a force from its cell ``(d1, d2)`` on, once it got ``FAR_CELLS`` or more
-    from the start: far cells' copies by :func:`far_hit_in_cell`, and the cells of a flight that turns back
-    within ``FAR_CELLS`` of its start by :func:`events.hit_in_cell`, as before it left.  A hit is
-    reported with status 2 and its finite time (the event loop approaches it with :func:`far_move`)."""
-    for _ in range(max_cells):
-        ta, sa = _strip_exit(a0, a1, a2, d1 - 0.5, d1 + 0.5, t_in)
-        tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
-        t_out = min(ta, tb)
-        if max(abs(d1), abs(d2)) < FAR_CELLS:
+
+def _straight_far_walk(far_hit_in_cell):
+    """:func:`walk_hit`'s walk without force past ``FAR_CELLS``, over the far cells' search ``far_hit_in_cell``."""
+    @jit  # not inlined: reached by few flights (as disks._disk_walk_far)
+    def _walk_straight_far(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, cur_e, cur_o1, cur_o2, t_limit,
+                           extent_tol, max_cells, ceiling, s1, s2, d1, d2, t_in, ta, tb):
+        """:func:`_walk_straight` from its cell ``(d1, d2)`` on, ``FAR_CELLS`` or more from the start:
+        each cell's copies by :func:`far_hit_in_cell`."""
+        for _ in range(max_cells):
+            t_out = min(ta, tb)
+            t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, 0.0, 0.0, False),
+                                           cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
+            if e >= 0:
+                return t, e, o1, o2, 0
+            if t_out >= t_limit:
+                return INF, -1, 0, 0, 1
+            if ta == t_out:
+                d1 += s1
+                ta = _face_time(a0, a1, d1 + 0.5 * s1, t_out)
+            if tb == t_out:
+                d2 += s2
+                tb = _face_time(b0, b1, d2 + 0.5 * s2, t_out)
+            t_in = t_out
+        return INF, -1, 0, 0, 2
+
+    return _walk_straight_far
+
+
+
+def _force_far_walk(hit_in_cell, far_hit_in_cell):
+    """:func:`walk_hit`'s walk under a force past ``FAR_CELLS``, over both cell searches."""
+    @jit  # not inlined: reached by few flights
+    def _walk_force_far(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2,
+                        t_limit, extent_tol, max_cells, ceiling, d1, d2, t_in):
+        """:func:`walk_hit`'s walk under a force from its cell ``(d1, d2)`` on, once it got ``FAR_CELLS`` or more
+        from the start: far cells' copies by :func:`far_hit_in_cell`, and the cells of a flight that turns back
+        within ``FAR_CELLS`` of its start by :func:`events.hit_in_cell`, as before it left.  A hit is
+        reported with status 2 and its finite time (the event loop approaches it with :func:`far_move`)."""
+        for _ in range(max_cells):
+            ta, sa = _strip_exit(a0, a1, a2, d1 - 0.5, d1 + 0.5, t_in)
+            tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
+            t_out = min(ta, tb)
+            if max(abs(d1), abs(d2)) < FAR_CELLS:
+                t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay, True),
+                                           cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
+                if e >= 0:
+                    return t, e, o1, o2, 2
+            else:
+                t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay, True),
+                                               cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
+                if e >= 0:
+                    return t, e, o1, o2, 2
+            if t_out >= t_limit:
+                return INF, -1, 0, 0, 1
+            if ta == t_out:
+                d1 += sa
+            if tb == t_out:
+                d2 += sb
+            t_in = t_out
+        return INF, -1, 0, 0, 2
+
+    return _walk_force_far
+
+
+
+def _walk(hit_in_cell, _walk_straight, _walk_force_far):
+    """:func:`lattice_walk`'s ``walk_hit`` from its cell search and the walks it hands on to."""
+    @jit
+    def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
+                 cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling=INF):
+        """:func:`lattice_walk`'s walk (its docstring)."""
+        # lattice coordinates along the flight: alpha(t) = B[0].q(t), beta(t) = B[1].q(t)
+        a0, b0 = lattice_coordinates(B, x, y)
+        a1, b1 = lattice_coordinates(B, vx, vy)
+        if not has_force:
+            return _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
+                                  cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling)
+        a2, b2 = lattice_coordinates(B, ax, ay)
+        a2 *= 0.5
+        b2 *= 0.5
+        d1 = 0
+        d2 = 0
+        t_in = 0.0
+        k = 0
+        while k < max_cells:
+            if max(abs(d1), abs(d2)) >= FAR_CELLS:  # a long flight goes on out of line, below (a call in
+                break                               # this loop cost the Galton board a third of its speed)
+            k += 1
+            ta, sa = _strip_exit(a0, a1, a2, d1 - 0.5, d1 + 0.5, t_in)
+            tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
+            t_out = min(ta, tb)
             t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay, True),
                                        cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
             if e >= 0:
-                return t, e, o1, o2, 2
-        else:
-            t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay, True),
-                                           cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
-            if e >= 0:
-                return t, e, o1, o2, 2
-        if t_out >= t_limit:
-            return INF, -1, 0, 0, 1
-        if ta == t_out:
-            d1 += sa
-        if tb == t_out:
-            d2 += sb
-        t_in = t_out
-    return INF, -1, 0, 0, 2
+                return t, e, o1, o2, 0
+            if t_out >= t_limit:
+                return INF, -1, 0, 0, 1
+            if ta == t_out:
+                d1 += sa
+            if tb == t_out:
+                d2 += sb
+            t_in = t_out
+        if k >= max_cells:
+            return INF, -1, 0, 0, 2
+        return _walk_force_far(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, vy, ax, ay, cur_e,
+                               cur_o1, cur_o2, t_limit, extent_tol, max_cells - k, ceiling, d1, d2, t_in)
+
+    return walk_hit
 
 
-@jit
-def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
-             cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling=INF):
-    """Earliest hit of a flight from ``(x, y)`` (relative to cell 0) in a periodic scene.
+@functools.cache
+def lattice_walk(open_ends=True):
+    """``walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force, cur_e, cur_o1, cur_o2, t_limit,
+    extent_tol, max_cells, ceiling=inf)``: free flight's earliest hit in a periodic scene.
 
     Returns ``(t, element, o1, o2, status)``: ``status`` 0 for a hit, 1 when the
     walk passed ``t_limit`` without a hit, 2 when it crossed ``max_cells`` cells
     without a hit (an endless free flight, reported as an escape).  Cells ``FAR_CELLS``
-    or more from the start are tested on the flight re-centred exactly there
-    (:func:`far_hit_in_cell`, out of line); the event loop forms such a hit's point
+    or more from the start are searched on the flight re-centred exactly there
+    (:mod:`far_flight`, out of line); the event loop forms such a hit's point
     exactly for a straight flight (:func:`far_hit_point`).  Under a force
     (``has_force``) a hit found after the walk got that far is returned with
     status 2, as an escape but with its finite time ``t``: the event loop
     moves the flight's start near it (:func:`far_move`) and walks again.
     ``ceiling``: the top of a bounded lattice relative to cell 0 (copies whose
-    centre lies above it are skipped, :func:`events.hit_in_cell`); ``inf`` for none.
+    centre lies above it are skipped, :func:`search.cell_search`); ``inf`` for none.
+    ``open_ends``: the open-end rule compiled in (:func:`search.cell_search`).
     """
-    # lattice coordinates along the flight: alpha(t) = B[0].q(t), beta(t) = B[1].q(t)
-    a0, b0 = lattice_coordinates(B, x, y)
-    a1, b1 = lattice_coordinates(B, vx, vy)
-    if not has_force:
-        return _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
-                              cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling)
-    a2, b2 = lattice_coordinates(B, ax, ay)
-    a2 *= 0.5
-    b2 *= 0.5
-    d1 = 0
-    d2 = 0
-    t_in = 0.0
-    k = 0
-    while k < max_cells:
-        if max(abs(d1), abs(d2)) >= FAR_CELLS:  # a long flight goes on out of line, below (a call in
-            break                               # this loop cost the Galton board a third of its speed)
-        k += 1
-        ta, sa = _strip_exit(a0, a1, a2, d1 - 0.5, d1 + 0.5, t_in)
-        tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
-        t_out = min(ta, tb)
-        t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay, True),
-                                   cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
-        if e >= 0:
-            return t, e, o1, o2, 0
-        if t_out >= t_limit:
-            return INF, -1, 0, 0, 1
-        if ta == t_out:
-            d1 += sa
-        if tb == t_out:
-            d2 += sb
-        t_in = t_out
-    if k >= max_cells:
-        return INF, -1, 0, 0, 2
-    return _walk_force_far(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, vy, ax, ay, cur_e,
-                           cur_o1, cur_o2, t_limit, extent_tol, max_cells - k, ceiling, d1, d2, t_in)
+    near = cell_search(free_flight, open_ends=open_ends)
+    far = cell_search(far_flight, open_ends=open_ends)
+    straight = _straight_walk(near, _straight_far_walk(far))
+    return _walk(near, straight, _force_far_walk(near, far))
+
+
+#: Free flight's cell search (:func:`search.cell_search`, inlined) and lattice walk, the open-end rule compiled in.
+hit_in_cell = cell_search(free_flight)
+walk_hit = lattice_walk()
+
 
 
 @jit

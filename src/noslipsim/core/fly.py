@@ -18,15 +18,15 @@ flight's hit 16 or more cells away, placed from its exact point (:func:`cells.fa
 import functools
 import math
 
-from . import magnetic_flight, thermo_flight
-from .cells import FAR_CELLS, far_hit_point, hit_in_cell, walk_hit
+from . import free_flight, magnetic_flight, thermo_flight
+from .cells import FAR_CELLS, far_hit_point, lattice_walk
 from .events import advance, exact_line_hit
 from .geometry import copy_shift, place_on_element
 from .jit import jit
 from .layout import LONG_WALL, STOP_ESCAPE, STOP_LEVEL, STOP_MAX_TIME, STOP_PINNED, STOP_SEARCH_LIMIT
 from .magnetic import period as magnetic_period
 from .roots import quadratic_exit
-from .search import SEARCH_FAILED, event_search
+from .search import SEARCH_FAILED, cell_search, event_search
 from .thermostat import field
 from .thermostat import flight as thermo_path
 from .tolerances import MAX_CELLS_PER_FLIGHT
@@ -117,8 +117,12 @@ def _free_state(F, t):
 
 
 @functools.cache
-def free_search(LATTICE_ALWAYS, LATTICE_RT):
-    """Free flight's next hit: the cell walk on a lattice (``LATTICE_*``: compile-time), else one cell."""
+def free_search(LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS):
+    """Free flight's next hit: the cell walk on a lattice (``LATTICE_*``: compile-time), else one cell;
+    ``OPEN_ENDS``: the open-end rule compiled in (:func:`search.cell_search`)."""
+    hit_in_cell = cell_search(free_flight, open_ends=OPEN_ENDS)
+    walk_hit = lattice_walk(OPEN_ENDS)
+
     @jit(inline="always")
     def search(kinds, params, copies, A, B, lattice, F, cur_e, cur_o1, cur_o2, limit, extent_tol, pin, top):
         x, y, vx, vy, ax, ay, has_force = F
@@ -162,10 +166,11 @@ def free_land(WALLS):
 
 # ---------------------------------------------------------------------------- closed-form flights
 @functools.cache
-def closed_form_search(flight, pinning):
+def closed_form_search(flight, pinning, OPEN_ENDS):
     """A closed-form flight's next hit (:func:`search.event_search`); ``pinning``: its path is closed (one period
-    ``pin`` walked at most, and a plain table's miss is a path that meets nothing)."""
-    hit_in_cell, walk_hit, _ = event_search(flight)
+    ``pin`` walked at most, and a plain table's miss is a path that meets nothing); ``OPEN_ENDS`` as for free
+    flight."""
+    hit_in_cell, walk_hit, _ = event_search(flight, open_ends=OPEN_ENDS)
 
     @jit(inline="always")
     def search(kinds, params, copies, A, B, lattice, F, cur_e, cur_o1, cur_o2, limit, extent_tol, pin, top):
@@ -222,13 +227,13 @@ def _magnetic_level(F, f0):
 
 
 @functools.cache
-def flight_steps(LATTICE_ALWAYS, LATTICE_RT, WALLS):
+def flight_steps(LATTICE_ALWAYS, LATTICE_RT, WALLS, OPEN_ENDS):
     """``(free, thermostat, magnetic)``: the three flight steps for a variant's compile-time constants."""
-    return (flight_step(_free_begin, _free_level, free_search(LATTICE_ALWAYS, LATTICE_RT), _free_state,
+    return (flight_step(_free_begin, _free_level, free_search(LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS), _free_state,
                         free_land(WALLS)),
-            flight_step(_thermo_begin, _thermo_level, closed_form_search(thermo_flight, False),
+            flight_step(_thermo_begin, _thermo_level, closed_form_search(thermo_flight, False, OPEN_ENDS),
                         thermo_flight.state_at, closed_form_land(thermo_flight, WALLS)),
-            flight_step(_magnetic_begin, _magnetic_level, closed_form_search(magnetic_flight, True),
+            flight_step(_magnetic_begin, _magnetic_level, closed_form_search(magnetic_flight, True, OPEN_ENDS),
                         magnetic_flight.state_at, closed_form_land(magnetic_flight, WALLS)))
 
 

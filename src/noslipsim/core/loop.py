@@ -48,7 +48,8 @@ from .variant import flight_switches, normalise, variant_code
 
 INF = math.inf
 @functools.cache
-def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, flight=None, mixed=None):
+def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, flight=None, mixed=None,
+                 open_ends=None):
     """The event loop compiled for one kind of scene: a scene pays only for what it needs.
 
     The arguments are the slots of a :class:`variant.Variant`
@@ -68,6 +69,11 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
     :func:`disks.disk_lattice_kernel`,
     with the same arguments and outputs; it skips what such a scene cannot
     need and agrees with the general path to rounding, not bit for bit.
+
+    ``open_ends=False`` (every segment and arc meets its neighbours at convex
+    junctions: no reflex vertex, no free end; ``KernelTable.open_ends``)
+    compiles the cell search without the open-end rule
+    (:func:`search.cell_search`), which such a table never needs.
 
     ``walls=False`` (no element flagged ``layout.LONG_WALL``: every polygon,
     box or disk table whose walls are short against its smallest feature)
@@ -98,11 +104,11 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
     table has a no-slip element, so ``mixed=True`` needs the spin
     (``spin=False`` is the specular law everywhere, whatever the table says).
     """
-    variant = normalise(spin, lattice, mode, disks, walls, flight, mixed)  # raises on impossible combinations
+    variant = normalise(spin, lattice, mode, disks, walls, flight, mixed, open_ends)  # raises on impossible ones
     if variant.disks:
         return disk_lattice_kernel(spin, mode)
     VARIANT = variant_code(variant)  # reported with results
-    spin, lattice, mode, disks, walls, flight, mixed = variant
+    spin, lattice, mode, disks, walls, flight, mixed, open_ends = variant
     # the flights: each branch of one opens with one of these constants (never a thermostat or field for nothing)
     FORCE_RT, FORCE, THERMO_ANY, THERMO_ALWAYS, THERMO_RT, MAG_ANY, MAG_ALWAYS, FAR_MOVE = flight_switches(variant)
     SPIN_RT = spin is None
@@ -113,6 +119,7 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
     MODE_RT = mode is None
     MODE = RECORD_LOG if mode is None else int(mode)
     WALLS = walls is None or bool(walls)  # a compile-time constant: False drops the long-wall check
+    OPEN_ENDS = open_ends is None or bool(open_ends)  # False drops the open-end rule (search.cell_search)
     # per-element laws: compiled in only where a table may mix them
     MIXED_ANY = mixed is not False
     MIXED_ALWAYS = mixed is True
@@ -120,8 +127,8 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
     LAW_KEPT = SPIN_RT or (SPIN and MIXED_ANY)
     # the steps (fly.py, bounce.py), each compiled with the constants it reads
     setup = flight_setup(THERMO_ANY, THERMO_RT, MAG_ANY, MAG_ALWAYS)
-    fly = flight_dispatch(flight_steps(LATTICE_ALWAYS, LATTICE_RT, WALLS), THERMO_ANY, THERMO_ALWAYS, MAG_ANY,
-                          MAG_ALWAYS)
+    fly = flight_dispatch(flight_steps(LATTICE_ALWAYS, LATTICE_RT, WALLS, OPEN_ENDS), THERMO_ANY, THERMO_ALWAYS,
+                          MAG_ANY, MAG_ALWAYS)
     law_of = element_law(MIXED_ANY, MIXED_ALWAYS)
     acceleration = local_acceleration(THERMO_ANY, THERMO_ALWAYS, MAG_ANY, MAG_ALWAYS)
     corners = corner_pass(law_of, acceleration)

@@ -91,7 +91,7 @@ def open_end_start(kind, p, t, best_t, x, y, extent_tol):
 
 
 @functools.cache
-def cell_search(flight, compile=jit):
+def cell_search(flight, compile=jit, open_ends=True):
     """The earliest hit over a cell's element copies for the flight module ``flight`` (built once per flight).
 
     ``hit_in_cell(kinds, params, copies, A, d1, d2, F, cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, shifted,
@@ -107,15 +107,16 @@ def cell_search(flight, compile=jit):
     o2)``, ``(inf, -1, 0, 0)``, or ``(GAVE_UP, SEARCH_FAILED, 0, 0)`` when a flight's search gave up.
 
     ``compile``: how it is compiled (:func:`jit.jit`, inlined where the flight says ``INLINE``; the
-    identity gives its Python source).
+    identity gives its Python source).  ``open_ends=False`` compiles the open-end rule out: a table whose
+    segments and arcs all meet at convex junctions (``KernelTable.open_ends``) never needs it.
     """
     if compile is jit and flight.INLINE:
         compile = functools.partial(jit, inline="always")
     return _hit_in_cell(flight.start, flight.at_start, flight.window, flight.window_box, flight.shift,
-                        flight.element_exit, flight.GIVES_UP, compile)
+                        flight.element_exit, flight.GIVES_UP, bool(open_ends), compile)
 
 
-def _hit_in_cell(start, at_start, window, window_box, shift, element_exit, gives_up, compile):
+def _hit_in_cell(start, at_start, window, window_box, shift, element_exit, gives_up, OPEN_ENDS, compile):
     """:func:`cell_search`'s kernel over one flight's functions."""
     @compile
     def hit_in_cell(kinds, params, copies, A, d1, d2, F, cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, shifted,
@@ -141,7 +142,7 @@ def _hit_in_cell(start, at_start, window, window_box, shift, element_exit, gives
                 if bounded and box_missed(kinds[e], params[e], S, bx0, by0, bx1, by1):
                     continue
                 t = element_exit(kinds[e], params[e], G, S, False, t_in, best_t, extent_tol)
-                if open_end_start(kinds[e], params[e], t, best_t, x0 - S[0], y0 - S[1], extent_tol):
+                if OPEN_ENDS and open_end_start(kinds[e], params[e], t, best_t, x0 - S[0], y0 - S[1], extent_tol):
                     t = element_exit(kinds[e], params[e], G0, S, True, 0.0, best_t, extent_tol)
             if gives_up and t < 0.0:  # a search gave up: the earliest hit is unknown
                 return GAVE_UP, SEARCH_FAILED, 0, 0
@@ -158,10 +159,10 @@ def _hit_in_cell(start, at_start, window, window_box, shift, element_exit, gives
 
 
 @functools.cache
-def event_search(flight, compile=jit):
+def event_search(flight, compile=jit, open_ends=True):
     """``(hit_in_cell, walk_hit, exact_line_hit)`` for the closed-form flight module ``flight`` (built once).
 
-    ``hit_in_cell``: :func:`cell_search`'s.
+    ``hit_in_cell``: :func:`cell_search`'s (``open_ends`` as there).
 
     ``walk_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells)``: the
     earliest hit in a periodic scene; ``(t, element, o1, o2, status)``, status 0 hit, 1 past ``t_limit``,
@@ -173,7 +174,7 @@ def event_search(flight, compile=jit):
     ``compile``: how each is compiled (:func:`jit.jit`; the identity gives their Python source, calling
     the flight's functions as they are, for tests that patch a flight's constants).
     """
-    hit_in_cell = cell_search(flight, compile)
+    hit_in_cell = cell_search(flight, compile, open_ends)
     strip_exit = _strip_exit(flight.face_exit, compile)
     return (hit_in_cell, _walk_hit(flight.start, hit_in_cell, strip_exit, compile),
             _exact_line_hit(flight.start, flight.state_at, flight.line_exit, compile))

@@ -1,6 +1,6 @@
 """Kernel variants: the compile-time slots of the event loop, and the number a kernel reports them by.
 
-A variant is a :class:`Variant`, ``(spin, lattice, mode, disks, walls, flight, mixed)``
+A variant is a :class:`Variant`, ``(spin, lattice, mode, disks, walls, flight, mixed, open_ends)``
 (:func:`loop.orbit_kernel`): each slot ``True``/``False`` (a record mode for
 ``mode``; for ``flight`` one of :data:`STRAIGHT` (no force), :data:`FORCE`
 (free fall under the force), :data:`THERMOSTAT` (the force flown isokinetically)
@@ -49,6 +49,9 @@ class Variant(NamedTuple):
         :data:`STRAIGHT`, :data:`FORCE`, :data:`THERMOSTAT` or :data:`MAGNETIC`.
     mixed : bool or None
         The elements do not all share one law: per-element laws are compiled in.
+    open_ends : bool or None
+        Some segment or arc has an open end (a reflex junction or a free end): the cell search's
+        open-end rule is compiled in (:func:`search.cell_search`).
     """
 
     spin: bool | None = None
@@ -58,6 +61,7 @@ class Variant(NamedTuple):
     walls: bool | None = None
     flight: int | None = None
     mixed: bool | None = None
+    open_ends: bool | None = None
 
 
 #: Names of the slots, in order.
@@ -103,12 +107,12 @@ _RUNTIME = len(FLIGHTS)  # digit of a slot left to run time
 _BASE = _RUNTIME + 1  # one digit per slot; the widest slot (flight) has len(FLIGHTS) values and run time
 
 
-def normalise(spin=None, lattice=None, mode=None, disks=None, walls=None, flight=None, mixed=None):
+def normalise(spin=None, lattice=None, mode=None, disks=None, walls=None, flight=None, mixed=None, open_ends=None):
     """The variant as the kernel it selects sees it.
 
     Parameters
     ----------
-    spin, lattice, disks, walls, mixed : bool or None
+    spin, lattice, disks, walls, mixed, open_ends : bool or None
     mode : int or None
         One of :data:`MODES`.
     flight : int or None
@@ -118,7 +122,7 @@ def normalise(spin=None, lattice=None, mode=None, disks=None, walls=None, flight
     -------
     Variant
         The disk loop (``disks=True``) has no force, walks a lattice, has no
-        walls and one law whatever the other slots say, so those slots are
+        walls, no open ends and one law whatever the other slots say, so those slots are
         fixed there; ``disks=None`` reads as ``False`` (the loop is chosen
         before compiling, never at run time).
 
@@ -138,8 +142,9 @@ def normalise(spin=None, lattice=None, mode=None, disks=None, walls=None, flight
         if mixed:
             raise ValueError("variant: the lean disk loop (disks=True) knows one law; a mixed table (mixed=True) "
                              "runs the general loop")
-        return Variant(spin, True, mode, True, False, STRAIGHT, False)
-    return Variant(spin, _flag("lattice", lattice), mode, False, _flag("walls", walls), flight, mixed)
+        return Variant(spin, True, mode, True, False, STRAIGHT, False, False)
+    return Variant(spin, _flag("lattice", lattice), mode, False, _flag("walls", walls), flight, mixed,
+                   _flag("open_ends", open_ends))
 
 
 def _flag(name, value):
