@@ -45,7 +45,9 @@ CASES = [(name, law) for name in SCENES for law in LAWS]
 
 SLOTS = (0, 1, 2, 4, 5)  # spin, lattice, mode, walls, flight (slot 3, disks, is another loop; the flight is
 # straight or a force here, the thermostat's is checked on a thermostatted scene in tests/test_thermostat_api.py;
-# slot 6, per-element laws, is left to run time here and checked on a mixed table in tests/test_mixed_law.py)
+# slot 6, per-element laws, is left to run time here and checked on a mixed table in tests/test_mixed_law.py;
+# slot 7, the open-end rule, is left to run time in every subset: compiled in, it must change no bit of these
+# closed tables, whose own variant compiles it out; tests/test_reflex_vertex.py checks it on a reflex vertex)
 ALL_SUBSETS = [s for k in range(1, len(SLOTS) + 1) for s in itertools.combinations(SLOTS, k)]
 STRESS_SUBSETS = ALL_SUBSETS
 
@@ -144,9 +146,10 @@ def test_comparison_sees_one_ulp_and_a_wrong_law():
 @pytest.mark.parametrize("name,law", CASES)
 def test_kernel_variant_asks_only_for_what_the_scene_needs(name, law, mode):
     scene = scene_of(name, law)[0]
-    spin, lattice, m, disks, walls, flight, mixed = kernel_table(scene).variant(mode)
+    spin, lattice, m, disks, walls, flight, mixed, open_ends = kernel_table(scene).variant(mode)
     # exact bools: orbit_kernel tells "fixed False" from "read at run time" by identity (``is False``)
-    assert all(f is True or f is False for f in (spin, lattice, disks, walls, mixed))
+    assert all(f is True or f is False for f in (spin, lattice, disks, walls, mixed, open_ends))
+    assert open_ends is False  # closed tables: no reflex junction, no free end, no open-end rule compiled
     assert type(flight) is int  # no scene here has a thermostat or a field: straight flights or free fall
     assert mixed is False  # one law per table: none compiles per-element laws
     assert flight == (FORCE if name in ("circle_gravity", "galton", "wedge") else STRAIGHT)

@@ -1,6 +1,6 @@
 """One flight of the event loop, for each kind of flight: from a collision to the next event.
 
-:func:`flight_step` builds, from four functions of a flight, the step that takes the state after
+:func:`flight_step` builds, from five functions of a flight, the step that takes the state after
 a collision to the next event: the stop level's time, the next hit (:mod:`search`, :mod:`cells`),
 the stops that come before it (the level, an escape, a closed path that meets nothing, the time
 limit, a search that gave up), and at a hit the state there placed on the element copy
