@@ -265,24 +265,3 @@ def flight_setup(THERMO_ANY, THERMO_RT, MAG_ANY, MAG_ALWAYS):
         return thermo, mag, potential, E, pin
 
     return setup
-
-
-@functools.cache
-def flight_dispatch(steps, THERMO_ANY, THERMO_ALWAYS, MAG_ANY, MAG_ALWAYS):
-    """``fly(thermo, mag, ...)``: the step of the flight the orbit flies, of :func:`flight_steps`' ``steps``
-    (each branch opens with a compile-time constant: a variant compiles only the flights it may fly)."""
-    free, thermostatted, magnetic = steps
-
-    @jit(inline="always")
-    def fly(thermo, mag, kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W, pin, cur_e,
-            cur_o1, cur_o2, remaining, stop_below, oy, top, extent_tol):
-        if THERMO_ALWAYS or (THERMO_ANY and thermo):
-            return thermostatted(kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W, pin,
-                                 cur_e, cur_o1, cur_o2, remaining, stop_below, oy, top, extent_tol)
-        if MAG_ALWAYS or (MAG_ANY and mag):
-            return magnetic(kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W, pin,
-                            cur_e, cur_o1, cur_o2, remaining, stop_below, oy, top, extent_tol)
-        return free(kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W, pin, cur_e, cur_o1,
-                    cur_o2, remaining, stop_below, oy, top, extent_tol)
-
-    return fly

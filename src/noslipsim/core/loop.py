@@ -26,7 +26,7 @@ from .bounce import corner_pass, element_law, grazing, local_acceleration, rebas
 from .cells import far_move
 from .disks import disk_lattice_kernel
 from .energy import SETTLE_EVERY, settle_mode, state_energy
-from .fly import HIT, flight_dispatch, flight_setup, flight_steps
+from .fly import HIT, flight_setup, flight_steps
 from .geometry import lattice_shift, nearest_cell
 from .jit import SOURCE_STAMP, jit
 from .laws import collide
@@ -91,7 +91,7 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
     ``W`` arguments.  A variant compiles no code of a flight it cannot fly:
     each of their branches opens with a compile-time constant
     (:func:`variant.flight_switches`: ``THERMO_ANY``, ``MAG_ANY``, ...;
-    :func:`fly.flight_dispatch`), which numba prunes before typing (and a
+    the loop's choice of flight step), which numba prunes before typing (and a
     fixed flight prunes the free fall likewise).  Every flight searches a
     cell with :func:`search.cell_search`.
 
@@ -127,8 +127,10 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
     LAW_KEPT = SPIN_RT or (SPIN and MIXED_ANY)
     # the steps (fly.py, bounce.py), each compiled with the constants it reads
     setup = flight_setup(THERMO_ANY, THERMO_RT, MAG_ANY, MAG_ALWAYS)
-    fly = flight_dispatch(flight_steps(LATTICE_ALWAYS, LATTICE_RT, WALLS, OPEN_ENDS), THERMO_ANY, THERMO_ALWAYS,
-                          MAG_ANY, MAG_ALWAYS)
+    # the flight steps, chosen in the loop itself: numba prunes the loop's own branches before it inlines,
+    # not those of an inlined dispatch (there, every variant typed and lowered all three flights: a pentagon's
+    # compile took twice as long)
+    fly_free, fly_thermo, fly_magnetic = flight_steps(LATTICE_ALWAYS, LATTICE_RT, WALLS, OPEN_ENDS)
     law_of = element_law(MIXED_ANY, MIXED_ALWAYS)
     acceleration = local_acceleration(THERMO_ANY, THERMO_ALWAYS, MAG_ANY, MAG_ALWAYS)
     corners = corner_pass(law_of, acceleration)
@@ -232,9 +234,19 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
             while n < max_collisions:
                 length = max(scale, abs(x), abs(y))
                 # next hit, and the stops that come before it (fly.py)
-                stop, t_hit, e, o1, o2, px, py, vx_in, vy_in, nx, ny, sx, sy, far = fly(
-                    thermo, mag, kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W, pin,
-                    cur_e, cur_o1, cur_o2, max_time - t, stop_below, oy, ceiling - oy, EXTENT_TOL * length)
+                remaining = max_time - t
+                top = ceiling - oy
+                extent_tol = EXTENT_TOL * length
+                if THERMO_ALWAYS or (THERMO_ANY and thermo):
+                    flown = fly_thermo(kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W,
+                                       pin, cur_e, cur_o1, cur_o2, remaining, stop_below, oy, top, extent_tol)
+                elif MAG_ALWAYS or (MAG_ANY and mag):
+                    flown = fly_magnetic(kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W,
+                                         pin, cur_e, cur_o1, cur_o2, remaining, stop_below, oy, top, extent_tol)
+                else:
+                    flown = fly_free(kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W,
+                                     pin, cur_e, cur_o1, cur_o2, remaining, stop_below, oy, top, extent_tol)
+                stop, t_hit, e, o1, o2, px, py, vx_in, vy_in, nx, ny, sx, sy, far = flown
                 if stop != HIT:
                     x, y, vx, vy = px, py, vx_in, vy_in
                     t = max_time if stop == STOP_MAX_TIME else (t + t_hit if stop == STOP_LEVEL else t)
