@@ -26,7 +26,7 @@ from .jit import jit
 from .layout import LONG_WALL, STOP_ESCAPE, STOP_LEVEL, STOP_MAX_TIME, STOP_PINNED, STOP_SEARCH_LIMIT
 from .magnetic import period as magnetic_period
 from .roots import quadratic_exit
-from .search import SEARCH_FAILED, cell_search, event_search
+from .search import SEARCH_FAILED, cell_search, event_search, long_wall_hit
 from .thermostat import field
 from .thermostat import flight as thermo_path
 from .tolerances import MAX_CELLS_PER_FLIGHT
@@ -190,8 +190,8 @@ def closed_form_search(flight, pinning, OPEN_ENDS):
 
 @functools.cache
 def closed_form_land(flight, WALLS):
-    """A closed-form flight's hit placed, a long wall's (``WALLS``) redone (:func:`search.event_search`)."""
-    exact_hit = event_search(flight)[2]
+    """A closed-form flight's hit placed, a long wall's (``WALLS``) redone (:func:`search.long_wall_hit`)."""
+    exact_hit = long_wall_hit(flight)
 
     @jit(inline="always")
     def land(kind, p, A, lattice, F, o1, o2, deflated, t_hit, hx, hy, vx_in, vy_in, extent_tol):

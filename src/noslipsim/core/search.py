@@ -176,8 +176,7 @@ def event_search(flight, compile=jit, open_ends=True):
     """
     hit_in_cell = cell_search(flight, compile, open_ends)
     strip_exit = _strip_exit(flight.face_exit, compile)
-    return (hit_in_cell, _walk_hit(flight.start, hit_in_cell, strip_exit, compile),
-            _exact_line_hit(flight.start, flight.state_at, flight.line_exit, compile))
+    return hit_in_cell, _walk_hit(flight.start, hit_in_cell, strip_exit, compile), long_wall_hit(flight, compile)
 
 
 def _strip_exit(face_exit, compile):
@@ -226,6 +225,13 @@ def _walk_hit(start, hit_in_cell, strip_exit, compile):
         return INF, -1, 0, 0, 2
 
     return walk_hit
+
+
+@functools.cache
+def long_wall_hit(flight, compile=jit):
+    """:func:`event_search`'s ``exact_line_hit`` for ``flight``: the cell search's ``open_ends`` does not touch it,
+    so one serves every variant."""
+    return _exact_line_hit(flight.start, flight.state_at, flight.line_exit, compile)
 
 
 def _exact_line_hit(start, state_at, line_exit, compile):
