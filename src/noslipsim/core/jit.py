@@ -43,6 +43,8 @@ from pathlib import Path
 from numba import config, njit, prange  # noqa: F401  (prange re-exported for kernels)
 from numba.core.caching import FunctionCache
 
+from .inline_copy import compile_with_one_copy
+
 try:
     import fcntl
 except ImportError:  # not POSIX: numba's own unlocked writes
@@ -158,6 +160,7 @@ def _compile(func, options):
     if options.get("cache"):
         dispatcher._cache = CoreCache(dispatcher.py_func)
         _lock_cache_writes(dispatcher)
+    compile_with_one_copy(dispatcher)  # numba's inliner copies a callee's scope once per block (inline_copy)
     return dispatcher
 
 
