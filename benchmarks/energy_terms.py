@@ -52,12 +52,14 @@ def orbit_terms(name, n):
     from noslipsim._engine.canonical import canonical_form
     from noslipsim._engine.table import kernel_table
     from noslipsim.core import layout
-    from noslipsim.core.cells import hit_in_cell
     from noslipsim.core.events import advance
+    from noslipsim.core.free_flight import falling
     from noslipsim.core.geometry import place_on_element
+    from noslipsim.core.search import cell_search
     from noslipsim.core.tolerances import EXTENT_TOL
     from noslipsim.simulate import run_one
 
+    hit_in_cell = cell_search(falling)
     make, q, v, w = ts.chain_families()[name]
     scene = make()
     rec = np.zeros((n, layout.N_LOG))
@@ -94,7 +96,7 @@ def orbit_terms(name, n):
             r = L[i]
             xs, ys, vxs, vys = r[layout.LOG_X], r[layout.LOG_Y], r[layout.LOG_VX], r[layout.LOG_VY]
             tol = EXTENT_TOL * max(scene.scale, abs(xs), abs(ys))
-            t_hit, e, _, _ = hit_in_cell(kinds, params, copies, A, 0, 0, (xs, ys, vxs, vys, ax, ay, True),
+            t_hit, e, _, _ = hit_in_cell(kinds, params, copies, A, 0, 0, (xs, ys, vxs, vys, ax, ay),
                                          int(r[layout.LOG_ELEMENT]), 0, 0, math.inf, tol, 0.0, False)
             hx, hy, vxi, vyi = advance(xs, ys, vxs, vys, ax, ay, t_hit, True)
             px, py = place_on_element(kinds[e], params[e], hx, hy)[:2]

@@ -35,7 +35,6 @@ from python_flight import python_flight
 from noslipsim import Arc, Circle, Line, Scene, Segment
 from noslipsim._engine.table import kernel_table
 from noslipsim.core import events, free_flight, roots, search
-from noslipsim.core.cells import hit_in_cell
 from noslipsim.core.events import element_hit_time, exit_roots, leaves_through_contact
 from noslipsim.core.geometry import place_on_element
 from noslipsim.core.layout import ARC, CIRCLE, END_START, LINE, SEGMENT
@@ -63,13 +62,15 @@ def loguni(rng, lo, hi):
 
 def next_hit(kinds, params, x, y, vx, vy, ax, ay, has_force, current, hi, extent_tol, hit=None):
     """Earliest hit ``(t, element)`` over a plain scene: ``hit_in_cell`` on cell (0, 0) with one
-    copy per element and no offsets (what the event loop does for a scene without lattice)."""
+    copy per element and no offsets (what the event loop does for a scene without lattice).
+
+    ``hit(has_force)``: the cell search to use, by flight (default: free flight's, compiled)."""
     copies = np.zeros((len(kinds), 3), dtype=np.int64)
     copies[:, 0] = np.arange(len(kinds))
     A = np.zeros((2, 2))
-    hit = hit_in_cell if hit is None else hit
+    hit = search.cell_search(free_flight.free_flight(bool(has_force))) if hit is None else hit(bool(has_force))
     # t_in = 0: the flight starts in the cell; no shift to form; no ceiling (a bounded lattice's top)
-    t, e, _, _ = hit(kinds, params, copies, A, 0, 0, (x, y, vx, vy, ax, ay, has_force),
+    t, e, _, _ = hit(kinds, params, copies, A, 0, 0, (x, y, vx, vy, ax, ay),
                      current, 0, 0, hi, extent_tol, 0.0, False, INF)
     return t, e
 
@@ -912,7 +913,8 @@ def test_scene_without_force_never_solves_a_cubic_or_quartic(monkeypatch):
     monkeypatch.setattr(events, "element_hit_time", events.element_hit_time.py_func)
     monkeypatch.setattr(free_flight, "element_hit_time", events.element_hit_time)
     rng = np.random.default_rng(seed_of("counting"))
-    py_hit_in_cell = search.cell_search(python_flight(free_flight), compile=lambda func: func)
+    def py_hit_in_cell(has_force):
+        return search.cell_search(python_flight(free_flight.free_flight(has_force)), compile=lambda func: func)
 
     def py_next_hit(*args):
         return next_hit(*args, hit=py_hit_in_cell)

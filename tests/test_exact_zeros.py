@@ -14,10 +14,11 @@ import pytest
 
 from noslipsim import tables
 from noslipsim._engine.table import kernel_table
-from noslipsim.core.cells import hit_in_cell
 from noslipsim.core.events import advance, flight_position
+from noslipsim.core.free_flight import free_flight
 from noslipsim.core.geometry import crossing_coefficients, crossing_slope
 from noslipsim.core.layout import ARC, CIRCLE, LINE, SEGMENT
+from noslipsim.core.search import cell_search
 from noslipsim.core.tolerances import EXTENT_TOL
 
 
@@ -57,7 +58,7 @@ def test_plain_scene_copies_are_hit_the_same_unshifted(force):
     scene = tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)])
     kinds, params, copies, A = kernel_table(scene).arrays()[:4]
     ax, ay = force
-    has_force = force != (0.0, 0.0)
+    hit_in_cell = cell_search(free_flight(force != (0.0, 0.0)))
     rng = np.random.default_rng(7)
     hits = 0
     for _ in range(2000):
@@ -67,7 +68,7 @@ def test_plain_scene_copies_are_hit_the_same_unshifted(force):
         ang = rng.uniform(0, 2 * math.pi)
         vx, vy = math.cos(ang), math.sin(ang)
         cur = int(rng.integers(-1, len(kinds)))  # sometimes a deflated element (as just after a hit)
-        args = (kinds, params, copies, A, 0, 0, (x, y, vx, vy, ax, ay, has_force), cur, 0, 0, math.inf,
+        args = (kinds, params, copies, A, 0, 0, (x, y, vx, vy, ax, ay), cur, 0, 0, math.inf,
                 EXTENT_TOL * scene.scale, 0.0)
         shifted = hit_in_cell(*args, True)
         unshifted = hit_in_cell(*args, False)

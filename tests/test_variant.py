@@ -75,6 +75,11 @@ def old_constants(v):
     }
 
 
+#: Constants that say which of a flight's steps a closure belongs to, not what the variant decides: the loop
+#: captures free flight's straight and falling steps both, and picks one by its own FORCE constants.
+STEP_IDENTITY = {"FALLING"}
+
+
 def compiled_constants(kernel):
     """The constants a kernel's loop captured (what numba compiles in), but the reported variant code.
 
@@ -84,6 +89,7 @@ def compiled_constants(kernel):
     """
     captured = {}
     seen = set()
+    steps = set()
 
     def collect(func):
         func = getattr(func, "py_func", func)
@@ -92,7 +98,9 @@ def compiled_constants(kernel):
         seen.add(id(func))
         for name, cell in zip(func.__code__.co_freevars, func.__closure__, strict=True):
             value = cell.cell_contents
-            if name.isupper():
+            if name in STEP_IDENTITY:
+                steps.add((name, value))
+            elif name.isupper():
                 assert captured.setdefault(name, value) == value, name
             else:
                 for item in value if isinstance(value, tuple) else (value,):
@@ -100,6 +108,7 @@ def compiled_constants(kernel):
 
     collect(kernel)
     captured.pop("VARIANT")
+    assert steps == {("FALLING", False), ("FALLING", True)}  # both free-flight steps, the loop picks one
     return captured
 
 

@@ -117,7 +117,7 @@ def _straight_walk(hit_in_cell, _walk_straight_far):
                 break                               # back); a call in this loop cost the walk a third (Galton board)
             k += 1
             t_out = min(ta, tb)
-            t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, 0.0, 0.0, False),
+            t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, 0.0, 0.0),
                                        cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
             if e >= 0:
                 return t, e, o1, o2, 0
@@ -148,7 +148,7 @@ def _straight_far_walk(far_hit_in_cell):
         each cell's copies by :func:`far_hit_in_cell`."""
         for _ in range(max_cells):
             t_out = min(ta, tb)
-            t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, 0.0, 0.0, False),
+            t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, 0.0, 0.0),
                                            cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
             if e >= 0:
                 return t, e, o1, o2, 0
@@ -181,12 +181,12 @@ def _force_far_walk(hit_in_cell, far_hit_in_cell):
             tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
             t_out = min(ta, tb)
             if max(abs(d1), abs(d2)) < FAR_CELLS:
-                t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay, True),
+                t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay),
                                            cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
                 if e >= 0:
                     return t, e, o1, o2, 2
             else:
-                t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay, True),
+                t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay),
                                                cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
                 if e >= 0:
                     return t, e, o1, o2, 2
@@ -229,7 +229,7 @@ def _walk(hit_in_cell, _walk_straight, _walk_force_far):
             ta, sa = _strip_exit(a0, a1, a2, d1 - 0.5, d1 + 0.5, t_in)
             tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
             t_out = min(ta, tb)
-            t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay, True),
+            t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay),
                                        cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
             if e >= 0:
                 return t, e, o1, o2, 0
@@ -266,14 +266,14 @@ def lattice_walk(open_ends=True):
     centre lies above it are skipped, :func:`search.cell_search`); ``inf`` for none.
     ``open_ends``: the open-end rule compiled in (:func:`search.cell_search`).
     """
-    near = cell_search(free_flight, open_ends=open_ends)
-    far = cell_search(far_flight, open_ends=open_ends)
-    straight = _straight_walk(near, _straight_far_walk(far))
-    return _walk(near, straight, _force_far_walk(near, far))
+    near_falling = cell_search(free_flight.falling, open_ends=open_ends)
+    far_falling = cell_search(far_flight.falling, open_ends=open_ends)
+    straight = _straight_walk(cell_search(free_flight.straight, open_ends=open_ends),
+                              _straight_far_walk(cell_search(far_flight.straight, open_ends=open_ends)))
+    return _walk(near_falling, straight, _force_far_walk(near_falling, far_falling))
 
 
-#: Free flight's cell search (:func:`search.cell_search`, inlined) and lattice walk, the open-end rule compiled in.
-hit_in_cell = cell_search(free_flight)
+#: Free flight's lattice walk, the open-end rule compiled in.
 walk_hit = lattice_walk()
 
 

@@ -20,7 +20,7 @@ import math
 
 from . import free_flight, magnetic_flight, thermo_flight
 from .cells import FAR_CELLS, far_hit_point, lattice_walk
-from .events import advance, exact_line_hit
+from .events import exact_line_hit
 from .geometry import copy_shift, place_on_element
 from .jit import jit
 from .layout import LONG_WALL, STOP_ESCAPE, STOP_LEVEL, STOP_MAX_TIME, STOP_PINNED, STOP_SEARCH_LIMIT
@@ -102,7 +102,7 @@ def flight_step(begin, level_exit, search, state_at, land):
 # ---------------------------------------------------------------------------- free flight
 @jit(inline="always")
 def _free_begin(x, y, vx, vy, ax, ay, has_force, E, W):
-    return x, y, vx, vy, ax, ay, has_force
+    return x, y, vx, vy, ax, ay
 
 
 @jit(inline="always")
@@ -110,26 +110,21 @@ def _free_level(F, f0):
     return quadratic_exit(f0, F[3], 0.5 * F[5], INF)
 
 
-@jit(inline="always")
-def _free_state(F, t):
-    x, y, vx, vy, ax, ay, has_force = F
-    return advance(x, y, vx, vy, ax, ay, t, has_force)
-
-
 @functools.cache
-def free_search(LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS):
+def free_search(LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS, FALLING):
     """Free flight's next hit: the cell walk on a lattice (``LATTICE_*``: compile-time), else one cell;
-    ``OPEN_ENDS``: the open-end rule compiled in (:func:`search.cell_search`)."""
-    hit_in_cell = cell_search(free_flight, open_ends=OPEN_ENDS)
+    ``OPEN_ENDS``: the open-end rule compiled in (:func:`search.cell_search`); ``FALLING``: under the force
+    (a constant: :mod:`free_flight`)."""
+    hit_in_cell = cell_search(free_flight.free_flight(FALLING), open_ends=OPEN_ENDS)
     walk_hit = lattice_walk(OPEN_ENDS)
 
     @jit(inline="always")
     def search(kinds, params, copies, A, B, lattice, F, cur_e, cur_o1, cur_o2, limit, extent_tol, pin, top):
-        x, y, vx, vy, ax, ay, has_force = F
+        x, y, vx, vy, ax, ay = F
         if LATTICE_ALWAYS or (LATTICE_RT and lattice):
             if top < INF and vy >= 0.0 and ay >= 0.0 and _above_top(params, y, top):
                 return INF, -1, 0, 0, True, False, False  # rising above a bounded lattice for good
-            t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force, cur_e,
+            t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, FALLING, cur_e,
                                                 cur_o1, cur_o2, limit, extent_tol, MAX_CELLS_PER_FLIGHT, top)
             # status 2 with t_hit finite (a hit after the walk got FAR_CELLS from the start, under a force) leaves
             # as an escape: the event loop moves the start near the hit (cells.far_move)
@@ -142,22 +137,24 @@ def free_search(LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS):
 
 
 @functools.cache
-def free_land(WALLS):
+def free_land(WALLS, FALLING):
     """Free flight's hit placed: a far straight hit from its exact point; a long wall's (``WALLS``) redone."""
     @jit(inline="always")
     def land(kind, p, A, lattice, F, o1, o2, deflated, t_hit, hx, hy, vx_in, vy_in, extent_tol):
-        x, y, vx, vy, ax, ay, has_force = F
+        x, y, vx, vy, ax, ay = F
         sx, sy = copy_shift(A, o1, o2, lattice)
         rx = hx - sx
         ry = hy - sy
         # a straight flight's far hit: eps x flight length (under a force no far hit comes here: the walk
         # reports it as an escape with a finite time, and the event loop moves the start near it)
-        far = lattice and not has_force and max(abs(o1), abs(o2)) >= FAR_CELLS
-        if far:
-            rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
+        far = False
+        if not FALLING:
+            far = lattice and max(abs(o1), abs(o2)) >= FAR_CELLS
+            if far:
+                rx, ry = far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t_hit)
         px, py, nx, ny = place_on_element(kind, p, rx, ry)
         if WALLS and p[LONG_WALL] != 0.0 and not far:  # a long line or segment: eps x distance along it
-            t_hit, px, py, vx_in, vy_in = exact_line_hit(kind, p, x - sx, y - sy, vx, vy, ax, ay, has_force, deflated,
+            t_hit, px, py, vx_in, vy_in = exact_line_hit(kind, p, x - sx, y - sy, vx, vy, ax, ay, FALLING, deflated,
                                                          t_hit, rx, ry, px, py, vx_in, vy_in)
         return t_hit, px, py, vx_in, vy_in, nx, ny, sx, sy, far
 
@@ -226,11 +223,28 @@ def _magnetic_level(F, f0):
     return magnetic_flight.line_exit(F, f0, 0.0, 1.0)
 
 
+def _free_step(straight, falling, FORCE, FORCE_RT):
+    """Free flight's step: ``falling`` under the force (``FORCE``, or ``has_force`` when ``FORCE_RT``), else
+    ``straight``.  The force is a constant of each (:mod:`free_flight`), so the choice is made here, on constants
+    numba prunes, never by a flag the flight would carry."""
+    @jit(inline="always")
+    def fly(kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W, pin, cur_e, cur_o1,
+            cur_o2, remaining, stop_below, oy, top, extent_tol):
+        if FORCE or (FORCE_RT and has_force):
+            return falling(kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W, pin, cur_e,
+                           cur_o1, cur_o2, remaining, stop_below, oy, top, extent_tol)
+        return straight(kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W, pin, cur_e,
+                        cur_o1, cur_o2, remaining, stop_below, oy, top, extent_tol)
+
+    return fly
+
+
 @functools.cache
-def flight_steps(LATTICE_ALWAYS, LATTICE_RT, WALLS, OPEN_ENDS):
-    """``(free, thermostat, magnetic)``: the three flight steps for a variant's compile-time constants."""
-    return (flight_step(_free_begin, _free_level, free_search(LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS), _free_state,
-                        free_land(WALLS)),
+def flight_steps(LATTICE_ALWAYS, LATTICE_RT, WALLS, OPEN_ENDS, FORCE, FORCE_RT):
+    """``(free, thermostat, magnetic)``: the flight steps for a variant's compile-time constants."""
+    straight, falling = (flight_step(_free_begin, _free_level, free_search(LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS, f),
+                                     free_flight.free_flight(f).state_at, free_land(WALLS, f)) for f in (False, True))
+    return (_free_step(straight, falling, FORCE, FORCE_RT),
             flight_step(_thermo_begin, _thermo_level, closed_form_search(thermo_flight, False, OPEN_ENDS),
                         thermo_flight.state_at, closed_form_land(thermo_flight, WALLS)),
             flight_step(_magnetic_begin, _magnetic_level, closed_form_search(magnetic_flight, True, OPEN_ENDS),

@@ -130,7 +130,7 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
     # the flight steps, chosen in the loop itself: numba prunes the loop's own branches before it inlines,
     # not those of an inlined dispatch (there, every variant typed and lowered all three flights: a pentagon's
     # compile took twice as long)
-    fly_free, fly_thermo, fly_magnetic = flight_steps(LATTICE_ALWAYS, LATTICE_RT, WALLS, OPEN_ENDS)
+    fly_free, fly_thermo, fly_magnetic = flight_steps(LATTICE_ALWAYS, LATTICE_RT, WALLS, OPEN_ENDS, FORCE, FORCE_RT)
     law_of = element_law(MIXED_ANY, MIXED_ALWAYS)
     acceleration = local_acceleration(THERMO_ANY, THERMO_ALWAYS, MAG_ANY, MAG_ALWAYS)
     corners = corner_pass(law_of, acceleration)

@@ -1,8 +1,9 @@
 """The event search of a flight, written once: the earliest hit in a cell, the cell walk, a long wall.
 
-A *flight* is a module that answers a few questions about the path from one collision to the next,
-each a small kernel taking the flight's state ``F`` (a tuple the module builds; it is never
-inspected here).  The cell search (:func:`cell_search`) asks:
+A *flight* is a module (or a :class:`FlightProtocol`, closures over the flight's constants) that
+answers a few questions about the path from one collision to the next, each a small kernel taking the
+flight's state ``F`` (a tuple the flight builds; it is never inspected here).  The cell search
+(:func:`cell_search`) asks:
 
 =================================================  ==========================================================
 ``start(F)``                                        ``(x, y)`` at ``t = 0``
@@ -39,6 +40,7 @@ cell's copies it searches with :func:`cell_search` (docs/extending.md, "A flight
 """
 import functools
 import math
+import types
 
 from .events import starts_at_open_end
 from .geometry import LINE_GATE, element_box, lattice_coordinates, line_value_exact
@@ -50,6 +52,16 @@ INF = math.inf
 SEARCH_FAILED = -2
 #: The time returned with :data:`SEARCH_FAILED`.
 GAVE_UP = -1.0
+
+
+class FlightProtocol(types.SimpleNamespace):
+    """A flight's protocol as an object rather than a module: closures over the flight's compile-time constants.
+
+    Equal only to itself (and hashed so), as a module is: :func:`cell_search` builds once per flight.
+    """
+
+    __eq__ = object.__eq__
+    __hash__ = object.__hash__
 
 
 @jit(inline="always")
