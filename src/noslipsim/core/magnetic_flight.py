@@ -22,7 +22,7 @@ from .magnetic import (
     root_position,
     zeta_time,
 )
-from .search import leading_point, reach_box, same_flight
+from .search import leading_point, reach_box
 
 INF = math.inf
 #: The search is compiled once, called per cell.
@@ -40,25 +40,31 @@ def state_at(F, t):
     return advance(F[0], F[1], F[2], F[3], F[4], t)
 
 
-at_start = same_flight
+@jit(inline="always")
+def at_start(F):
+    """``(x, y, vx, vy, W, c)``: the flight from ``t = 0`` and its speed ``c`` (once per search, not per copy)."""
+    x, y, vx, vy, W = F
+    return x, y, vx, vy, W, math.hypot(vx, vy)
 
 
 @jit(inline="always")
 def window(F, lo):
-    """The state where a window opens at ``lo`` (the path from there is the same circle, re-based)."""
+    """The state where a window opens at ``lo`` (the path from there is the same circle, re-based), as
+    :func:`at_start` gives it."""
     if lo == 0.0:
-        return F
+        return at_start(F)
     x, y, vx, vy = advance(F[0], F[1], F[2], F[3], F[4], lo)
-    return x, y, vx, vy, F[4]
+    return x, y, vx, vy, F[4], math.hypot(vx, vy)
 
 
 @jit(inline="always")
 def window_box(F, G, lo, hi, extent_tol):
-    """A bounded window: the box the path, at its constant speed, cannot leave from where the window opens."""
+    """A bounded window: the box the path, at its constant speed, cannot leave from where the window opens
+    (the speed there, ``G[5]``: within rounding of the start's, which the box's margin covers)."""
     bounded = hi < INF
     bx0 = by0 = bx1 = by1 = 0.0
     if bounded:
-        bx0, by0, bx1, by1 = reach_box(G[0], G[1], math.hypot(F[2], F[3]), hi - lo, extent_tol)
+        bx0, by0, bx1, by1 = reach_box(G[0], G[1], G[5], hi - lo, extent_tol)
     return bounded, bx0, by0, bx1, by1
 
 
@@ -72,9 +78,11 @@ def element_exit(kind, p, G, S, deflate, lo, hi, extent_tol):
     ``G`` is the state at ``lo`` (:func:`window`; ``deflate`` only with ``lo = 0``): the next exit after
     ``lo``, as a closed path meets an element at one root per period.  Copies the path cannot reach
     before ``hi`` (their distance over the speed) and exits after ``hi`` are dropped before the
-    exit's time and point are formed: the cell search passes the earliest hit so far as ``hi``.
+    exit's time and point are formed: the cell search passes the earliest hit so far as ``hi``.  A
+    segment's extent is tested before the time: the root's point is rational (:func:`root_position`),
+    its time an ``atan2``, and most lines the cyclotron circle crosses it leaves off their segment.
     """
-    x, y, vx, vy, W = G
+    x, y, vx, vy, W, c = G
     x -= S[0]
     y -= S[1]
     if not deflate and hi < INF:  # |q(t) - q(lo)| <= c (t - lo): no hit before the distance is flown
@@ -82,7 +90,7 @@ def element_exit(kind, p, G, S, deflate, lo, hi, extent_tol):
             gap = (x - p[0]) * p[2] + (y - p[1]) * p[3]
         else:
             gap = p[3] * (math.hypot(x - p[0], y - p[1]) - p[2])
-        if gap > math.hypot(vx, vy) * (hi - lo) * (1.0 + 1e-9) + extent_tol:
+        if gap > c * (hi - lo) * (1.0 + 1e-9) + extent_tol:
             return INF
     if kind == LINE or kind == SEGMENT:  # layout normals point into the table; magnetic's out of it
         c0, c1, c2, m0, m1, m2 = line_coefficients(x, y, vx, vy, W, p[0], p[1], -p[2], -p[3], deflate)
@@ -91,14 +99,23 @@ def element_exit(kind, p, G, S, deflate, lo, hi, extent_tol):
     found, num, den = exit_root(c0, c1, c2, m0, m1, m2, deflate)
     if not found:
         return INF
+    if kind == SEGMENT and not _in_extent(kind, p, x, y, vx, vy, W, num, den, extent_tol):
+        return INF
     t = zeta_time(num, den, W)
     if t == INF or lo + t > hi:
         return INF
-    if kind == SEGMENT or kind == ARC:  # the point from the root itself: no sine or cosine
-        hx, hy = root_position(x, y, vx, vy, W, num, den)
-        if extent_position(kind, p, hx, hy, extent_tol) < 0:
-            return INF
+    # an arc's extent test takes an atan2 of its own: after the time, which rejects late exits first
+    if kind == ARC and not _in_extent(kind, p, x, y, vx, vy, W, num, den, extent_tol):
+        return INF
     return lo + t
+
+
+@jit(inline="always")
+def _in_extent(kind, p, x, y, vx, vy, W, num, den, extent_tol):
+    """The root ``zeta = num / den`` lies in the segment's or arc's extent (its point from the root itself: no
+    sine or cosine)."""
+    hx, hy = root_position(x, y, vx, vy, W, num, den)
+    return extent_position(kind, p, hx, hy, extent_tol) >= 0
 
 
 @jit(inline="always")
