@@ -136,12 +136,18 @@ def functional_coefficients(c0, m0, nx, ny, vx, vy, W):
 @jit(inline="always")
 def circle_coefficients(x, y, vx, vy, W, cx, cy, r, sigma, deflate):
     """``(c0, c1, c2, m0, m1, m2)``: the quadratic in ``zeta`` of the circle (table outside it for ``sigma = +1``)."""
+    return circle_coefficients_at(x, y, vx, vy, W, cx, cy, r, sigma, deflate, math.hypot(x - cx, y - cy),
+                                  math.hypot(vx, vy))
+
+
+@jit(inline="always")
+def circle_coefficients_at(x, y, vx, vy, W, cx, cy, r, sigma, deflate, rho, c):
+    """:func:`circle_coefficients` given the distance ``rho = |x - (cx, cy)|`` and the speed ``c = |v|`` (each a
+    ``math.hypot``), for a caller that has formed them already."""
     dx, dy = x - cx, y - cy
-    rho = math.hypot(dx, dy)
     f0 = 0.0 if deflate else (rho - r) * (rho + r)
     m0 = (rho + r) * (abs(x) + abs(cx) + abs(y) + abs(cy))
     c1 = 2.0 * (dx * vx + dy * vy)
-    c = math.hypot(vx, vy)
     m1 = 2.0 * c * (abs(x) + abs(cx) + abs(y) + abs(cy))
     cross = dy * vx - dx * vy  # d . J v
     c2 = c * c + W * cross + 0.25 * W * W * f0

@@ -14,7 +14,7 @@ from .jit import jit
 from .layout import ARC, LINE, SEGMENT
 from .magnetic import (
     advance,
-    circle_coefficients,
+    circle_coefficients_at,
     exit_root,
     exit_time,
     functional_coefficients,
@@ -85,17 +85,17 @@ def element_exit(kind, p, G, S, deflate, lo, hi, extent_tol):
     x, y, vx, vy, W, c = G
     x -= S[0]
     y -= S[1]
-    if not deflate and hi < INF:  # |q(t) - q(lo)| <= c (t - lo): no hit before the distance is flown
-        if kind == LINE or kind == SEGMENT:
-            gap = (x - p[0]) * p[2] + (y - p[1]) * p[3]
-        else:
-            gap = p[3] * (math.hypot(x - p[0], y - p[1]) - p[2])
-        if gap > c * (hi - lo) * (1.0 + 1e-9) + extent_tol:
-            return INF
+    # |q(t) - q(lo)| <= c (t - lo): no hit before the distance ``gap`` is flown
+    reach = c * (hi - lo) * (1.0 + 1e-9) + extent_tol if not deflate and hi < INF else INF
     if kind == LINE or kind == SEGMENT:  # layout normals point into the table; magnetic's out of it
+        if (x - p[0]) * p[2] + (y - p[1]) * p[3] > reach:
+            return INF
         c0, c1, c2, m0, m1, m2 = line_coefficients(x, y, vx, vy, W, p[0], p[1], -p[2], -p[3], deflate)
     else:
-        c0, c1, c2, m0, m1, m2 = circle_coefficients(x, y, vx, vy, W, p[0], p[1], p[2], p[3], deflate)
+        rho = math.hypot(x - p[0], y - p[1])  # the gap's and the quadratic's: one hypot
+        if p[3] * (rho - p[2]) > reach:
+            return INF
+        c0, c1, c2, m0, m1, m2 = circle_coefficients_at(x, y, vx, vy, W, p[0], p[1], p[2], p[3], deflate, rho, c)
     found, num, den = exit_root(c0, c1, c2, m0, m1, m2, deflate)
     if not found:
         return INF
@@ -126,7 +126,7 @@ def _functional_exit(f, m0, nx, ny, vx, vy, W):
     return exit_time(c0, c1, c2, m0, m1, m2, W, False)
 
 
-@jit
+@jit(inline="always")  # a strip's two faces advance to the same t_in: inlined, that advance is formed once
 def face_exit(F, f0, nx, ny, t_in):
     """First time ``>= t_in`` at which ``f0 + n . (q(t) - q(0))`` (positive inside) leaves; ``t_in`` when on or
     past the face then and moving out (or along it and turning out)."""
