@@ -41,10 +41,20 @@ def state_at(F, t):
 
 
 @jit(inline="always")
+def speed_bound(vx, vy):
+    """``|v|`` to rounding (the reach tests' margin of 1e-9 covers it) from ``sqrt``, not ``math.hypot`` (a libm call
+    per search, 5 to 10 % of a pentagon's collision); ``inf`` (no test) where the squares could under- or overflow."""
+    s2 = vx * vx + vy * vy
+    if not 1e-280 < s2 < 1e280:
+        return INF
+    return math.sqrt(s2)
+
+
+@jit(inline="always")
 def at_start(F):
-    """``(x, y, vx, vy, W, c)``: the flight from ``t = 0`` and its speed ``c`` (once per search, not per copy)."""
+    """``(x, y, vx, vy, W, c)``: the flight from ``t = 0`` and a bound ``c`` on its speed (:func:`speed_bound`)."""
     x, y, vx, vy, W = F
-    return x, y, vx, vy, W, math.hypot(vx, vy)
+    return x, y, vx, vy, W, speed_bound(vx, vy)
 
 
 @jit(inline="always")
@@ -54,13 +64,13 @@ def window(F, lo):
     if lo == 0.0:
         return at_start(F)
     x, y, vx, vy = advance(F[0], F[1], F[2], F[3], F[4], lo)
-    return x, y, vx, vy, F[4], math.hypot(vx, vy)
+    return x, y, vx, vy, F[4], speed_bound(vx, vy)
 
 
 @jit(inline="always")
 def window_box(F, G, lo, hi, extent_tol):
     """A bounded window: the box the path, at its constant speed, cannot leave from where the window opens
-    (the speed there, ``G[5]``: within rounding of the start's, which the box's margin covers)."""
+    (the speed bound there, ``G[5]``: within rounding of the speed, which the box's margin covers)."""
     bounded = hi < INF
     bx0 = by0 = bx1 = by1 = 0.0
     if bounded:
@@ -92,10 +102,11 @@ def element_exit(kind, p, G, S, deflate, lo, hi, extent_tol):
             return INF
         c0, c1, c2, m0, m1, m2 = line_coefficients(x, y, vx, vy, W, p[0], p[1], -p[2], -p[3], deflate)
     else:
-        rho = math.hypot(x - p[0], y - p[1])  # the gap's and the quadratic's: one hypot
+        rho = math.hypot(x - p[0], y - p[1])  # the gap's and the quadratic's: one hypot for both
         if p[3] * (rho - p[2]) > reach:
             return INF
-        c0, c1, c2, m0, m1, m2 = circle_coefficients_at(x, y, vx, vy, W, p[0], p[1], p[2], p[3], deflate, rho, c)
+        c0, c1, c2, m0, m1, m2 = circle_coefficients_at(x, y, vx, vy, W, p[0], p[1], p[2], p[3], deflate, rho,
+                                                        math.hypot(vx, vy))
     found, num, den = exit_root(c0, c1, c2, m0, m1, m2, deflate)
     if not found:
         return INF
