@@ -1,0 +1,69 @@
+"""The magnetic flight's cell search (core/magnetic_flight.py through core/search.py): its filters drop no hit.
+
+A copy is skipped before its root is formed when the window's box or the distance the path can fly before
+``hi`` (its speed times the window, :func:`magnetic_flight.speed_bound`) cannot reach it, and a segment's
+root off its extent before its time is formed.  Each search with ``hi`` equal to the earliest hit must find
+that hit, at every speed: flights aimed at the disk's centre along a diagonal sit on the reach test's edge.
+"""
+import math
+
+import numpy as np
+import pytest
+
+from noslipsim import tables
+from noslipsim._engine.table import kernel_table
+from noslipsim.core import magnetic_flight, search
+
+BOX = kernel_table(tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)]))
+STADIUM = kernel_table(tables.stadium(1.0, 1.0))
+TOL = 1e-12
+
+
+def _hit(table, F, hi):
+    """``(t, element)``: the earliest hit in ``(0, hi]`` of the flight ``F`` from a point in free space."""
+    hit_in_cell = search.cell_search(magnetic_flight)
+    t, e, _, _ = hit_in_cell(table.kinds, table.params, table.copies, table.A, 0, 0, F, -1, 0, 0, hi, TOL, 0.0,
+                             False)
+    return t, e
+
+
+def _flights(speed, rng):
+    """Flights from the box's free space at ``speed``: random ones, and nearly straight ones aimed at the disk's
+    centre along a diagonal (gap = speed x time: the reach test's edge)."""
+    out = []
+    for _ in range(40):
+        x, y = rng.uniform(0.02, 0.98, 2)
+        if math.hypot(x - 0.5, y - 0.5) < 0.32:
+            continue
+        phi = rng.uniform(0.0, 2.0 * math.pi)
+        W = speed * rng.choice([0.7, -2.0, 1e-7])
+        out.append((x, y, speed * math.cos(phi), speed * math.sin(phi), W))
+    for d in (0.1, 0.2, 0.25):  # along the diagonal towards (0.5, 0.5)
+        u = speed / math.sqrt(2.0)
+        out.append((d, d, u, u, speed * 1e-9))
+        out.append((1.0 - d, d, -u, u, -speed * 1e-9))
+    return out
+
+
+@pytest.mark.parametrize("speed", [1e-160, 1e-3, 1.0, 1e150])
+def test_a_window_ending_at_the_hit_keeps_it(speed):
+    """Without a bound (``hi = inf``) and with ``hi`` the hit's own time the search finds the same hit."""
+    rng = np.random.default_rng(5)
+    for table, shift in ((BOX, 0.0), (STADIUM, 0.5)):  # the box's flights moved into the stadium's middle
+        for x, y, vx, vy, W in _flights(speed, rng):
+            F = (x - shift, y - shift, vx, vy, W)
+            t, e = _hit(table, F, math.inf)
+            if e < 0:
+                continue
+            assert _hit(table, F, t) == (t, e), F
+
+
+def test_speed_bound_covers_the_speed_or_gives_no_bound():
+    """To rounding of ``|v|`` (the reach tests' margin is 1e-9), or inf where the squares leave the normal range."""
+    rng = np.random.default_rng(3)
+    for scale in (1e-150, 1e-20, 1.0, 1e20, 1e130):
+        for vx, vy in rng.normal(size=(50, 2)) * scale:
+            c = magnetic_flight.speed_bound(vx, vy)
+            assert c * (1.0 + 1e-9) >= math.hypot(vx, vy)
+    assert magnetic_flight.speed_bound(1e-160, 1e-160) == math.inf
+    assert magnetic_flight.speed_bound(1e200, 0.0) == math.inf
