@@ -12,7 +12,7 @@ import pytest
 
 from noslipsim import tables
 from noslipsim._engine.table import kernel_table
-from noslipsim.core import magnetic_flight, search
+from noslipsim.core import magnetic, magnetic_flight, search
 
 BOX = kernel_table(tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)]))
 STADIUM = kernel_table(tables.stadium(1.0, 1.0))
@@ -67,3 +67,33 @@ def test_speed_bound_covers_the_speed_or_gives_no_bound():
             assert c * (1.0 + 1e-9) >= math.hypot(vx, vy)
     assert magnetic_flight.speed_bound(1e-160, 1e-160) == math.inf
     assert magnetic_flight.speed_bound(1e200, 0.0) == math.inf
+
+
+def test_angle_bounds_bracket_atan2():
+    """On a fine grid of directions in the first quadrant, the axes and the diagonal included, with room to spare."""
+    phi = np.linspace(0.0, 0.5 * math.pi, 200_001)
+    for X, Y, true in zip(np.cos(phi), np.sin(phi), phi):
+        lo, hi = magnetic.angle_bounds(X, Y)
+        assert lo + 1e-3 < math.atan2(Y, X) < hi - 1e-3, (X, Y, true)
+    assert magnetic.angle_bounds(0.0, 2.0)[0] < 0.5 * math.pi < magnetic.angle_bounds(0.0, 2.0)[1]
+    assert magnetic.angle_bounds(3.0, 0.0)[0] < 0.0 < magnetic.angle_bounds(3.0, 0.0)[1]
+
+
+@pytest.mark.parametrize("W", [0.7, -2.0, 1e-7, 3e5])
+def test_exit_after_never_drops_a_root_in_time(W):
+    """``exit_after`` is false whenever the root's computed time is within ``hi`` (ties included: ``hi = lo + t``),
+    and true for most roots at twice ``hi``'s distance: a bound, and a useful one."""
+    rng = np.random.default_rng(11)
+    late = 0
+    n = 20_000
+    for _ in range(n):
+        num = rng.normal() * 10.0 ** rng.uniform(-6, 3)
+        den = abs(rng.normal()) * 10.0 ** rng.uniform(-6, 3) * (rng.uniform() > 0.01)  # den = 0: half a period
+        lo = rng.choice([0.0, rng.uniform(0.0, 50.0)])
+        t = magnetic.zeta_time(num, den, W)
+        if t == math.inf:
+            continue
+        assert not magnetic.exit_after(num, den, W, lo, lo + t), (num, den, W, lo)
+        assert not magnetic.exit_after(num, den, W, lo, math.nextafter(lo + t, math.inf))
+        late += magnetic.exit_after(num, den, W, lo, lo + 0.5 * t)
+    assert late > n // 4

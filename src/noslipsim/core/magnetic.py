@@ -60,6 +60,10 @@ EPS = 2.220446049250313e-16
 #: Below this ``|W t|`` the path uses its series (``sin(theta)/W = t (1 - theta^2/6)``): exact to
 #: the last bit there, and no division by a ``W`` that may be subnormal.
 SERIES_ANGLE = 1e-8
+#: ``atan(v) = v (pi/4 + ATAN_SLOPE (1 - v))`` within ``ATAN_ERROR`` on ``[0, 1]`` (its error is at most 0.0038; the
+#: rest covers rounding): bounds on an exit's half-angle without its ``atan2`` (:func:`exit_after`).
+ATAN_SLOPE = 0.273
+ATAN_ERROR = 0.005
 #: A discriminant within ``GRAZE_ULPS`` roundings of its coefficients (first-order error bound)
 #: is a tangency: the orbit touches the element's line or circle to rounding and does not cross it.
 GRAZE_ULPS = 16.0
@@ -181,6 +185,37 @@ def zeta_time(num, den, W):
     if t < 0.0:
         t += 2.0 * math.pi / aw
     return t if t > 0.0 else INF
+
+
+@jit(inline="always")
+def angle_bounds(X, Y):
+    """``(lo, hi)``: bounds on ``atan2(Y, X)`` in ``[0, pi/2]`` (``X, Y >= 0``), a quadratic in the smaller ratio."""
+    if Y <= X:
+        v = Y / X
+        a = v * (0.25 * math.pi + ATAN_SLOPE * (1.0 - v))
+    else:  # atan(Y / X) = pi/2 - atan(X / Y)
+        v = X / Y
+        a = 0.5 * math.pi - v * (0.25 * math.pi + ATAN_SLOPE * (1.0 - v))
+    return a - ATAN_ERROR, a + ATAN_ERROR
+
+
+@jit(inline="always")
+def exit_after(num, den, W, lo, hi):
+    """True if the root ``zeta = num / den`` (``den >= 0``, ``W != 0``) certainly has ``lo + t > hi`` for its time
+    ``t = zeta_time(num, den, W)`` (or none), from a lower bound on ``t`` without an ``atan2``.
+
+    ``t = 2 psi / |W|`` with the half-angle ``psi`` in ``(0, pi)``: ``atan2(z, 2 den)`` for ``z = |W| num > 0``,
+    ``pi - atan2(-z, 2 den)`` for ``z <= 0`` (past half a period; ``z = 0`` is ``t = 0``, no root).  The bound
+    lies at least 0.001 below ``psi``, far more than the computed ``t`` can round below ``2 psi / |W|``, so
+    rounding only ever keeps a root (``lo + t`` rounds monotonically): false for a root that may be in time.
+    """
+    aw = abs(W)
+    z = aw * num
+    if z > 0.0:
+        psi = angle_bounds(2.0 * den, z)[0]
+    else:
+        psi = math.pi - angle_bounds(2.0 * den, -z)[1]
+    return lo + 2.0 * psi / aw > hi
 
 
 @jit(inline="always")

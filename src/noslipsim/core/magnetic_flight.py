@@ -15,6 +15,7 @@ from .layout import ARC, LINE, SEGMENT
 from .magnetic import (
     advance,
     circle_coefficients_at,
+    exit_after,
     exit_root,
     exit_time,
     functional_coefficients,
@@ -91,6 +92,8 @@ def element_exit(kind, p, G, S, deflate, lo, hi, extent_tol):
     exit's time and point are formed: the cell search passes the earliest hit so far as ``hi``.  A
     segment's extent is tested before the time: the root's point is rational (:func:`root_position`),
     its time an ``atan2``, and most lines the cyclotron circle crosses it leaves off their segment.
+    With ``hi`` finite, an exit certainly after it is dropped before that ``atan2``
+    (:func:`magnetic.exit_after`).
     """
     x, y, vx, vy, W, c = G
     x -= S[0]
@@ -111,6 +114,8 @@ def element_exit(kind, p, G, S, deflate, lo, hi, extent_tol):
     if not found:
         return INF
     if kind == SEGMENT and not _in_extent(kind, p, x, y, vx, vy, W, num, den, extent_tol):
+        return INF
+    if hi < INF and W != 0.0 and exit_after(num, den, W, lo, hi):  # certainly late: no atan2 for its time
         return INF
     t = zeta_time(num, den, W)
     if t == INF or lo + t > hi:
