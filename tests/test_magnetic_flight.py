@@ -97,3 +97,11 @@ def test_exit_after_never_drops_a_root_in_time(W):
         assert not magnetic.exit_after(num, den, W, lo, math.nextafter(lo + t, math.inf))
         late += magnetic.exit_after(num, den, W, lo, lo + 0.5 * t)
     assert late > n // 4
+
+
+def test_exit_after_an_underflowed_root_keeps_it():
+    """``|W| num`` and ``den`` both zero (a root's terms underflowed): no division by zero, and no root dropped
+    that ``zeta_time`` keeps."""
+    t = magnetic.zeta_time(1e-300, 0.0, 1e-30)
+    assert not magnetic.exit_after(1e-300, 0.0, 1e-30, 0.0, t)
+    assert magnetic.angle_bounds(0.0, 0.0) == (-magnetic.ATAN_ERROR, magnetic.ATAN_ERROR)

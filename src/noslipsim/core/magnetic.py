@@ -191,7 +191,7 @@ def zeta_time(num, den, W):
 def angle_bounds(X, Y):
     """``(lo, hi)``: bounds on ``atan2(Y, X)`` in ``[0, pi/2]`` (``X, Y >= 0``), a quadratic in the smaller ratio."""
     if Y <= X:
-        v = Y / X
+        v = Y / X if X > 0.0 else 0.0  # X = Y = 0 (an underflowed root): the bounds stay finite
         a = v * (0.25 * math.pi + ATAN_SLOPE * (1.0 - v))
     else:  # atan(Y / X) = pi/2 - atan(X / Y)
         v = X / Y
