@@ -60,6 +60,10 @@ EPS = 2.220446049250313e-16
 #: Below this ``|W t|`` the path uses its series (``sin(theta)/W = t (1 - theta^2/6)``): exact to
 #: the last bit there, and no division by a ``W`` that may be subnormal.
 SERIES_ANGLE = 1e-8
+#: ``atan(v) = v (pi/4 + ATAN_SLOPE (1 - v))`` within ``ATAN_ERROR`` on ``[0, 1]`` (its error is at most 0.0038; the
+#: rest covers rounding): bounds on an exit's half-angle without its ``atan2`` (:func:`exit_after`).
+ATAN_SLOPE = 0.273
+ATAN_ERROR = 0.005
 #: A discriminant within ``GRAZE_ULPS`` roundings of its coefficients (first-order error bound)
 #: is a tangency: the orbit touches the element's line or circle to rounding and does not cross it.
 GRAZE_ULPS = 16.0
@@ -136,12 +140,18 @@ def functional_coefficients(c0, m0, nx, ny, vx, vy, W):
 @jit(inline="always")
 def circle_coefficients(x, y, vx, vy, W, cx, cy, r, sigma, deflate):
     """``(c0, c1, c2, m0, m1, m2)``: the quadratic in ``zeta`` of the circle (table outside it for ``sigma = +1``)."""
+    return circle_coefficients_at(x, y, vx, vy, W, cx, cy, r, sigma, deflate, math.hypot(x - cx, y - cy),
+                                  math.hypot(vx, vy))
+
+
+@jit(inline="always")
+def circle_coefficients_at(x, y, vx, vy, W, cx, cy, r, sigma, deflate, rho, c):
+    """:func:`circle_coefficients` given the distance ``rho = |x - (cx, cy)|`` and the speed ``c = |v|`` (each a
+    ``math.hypot``), for a caller that has formed them already."""
     dx, dy = x - cx, y - cy
-    rho = math.hypot(dx, dy)
     f0 = 0.0 if deflate else (rho - r) * (rho + r)
     m0 = (rho + r) * (abs(x) + abs(cx) + abs(y) + abs(cy))
     c1 = 2.0 * (dx * vx + dy * vy)
-    c = math.hypot(vx, vy)
     m1 = 2.0 * c * (abs(x) + abs(cx) + abs(y) + abs(cy))
     cross = dy * vx - dx * vy  # d . J v
     c2 = c * c + W * cross + 0.25 * W * W * f0
@@ -175,6 +185,37 @@ def zeta_time(num, den, W):
     if t < 0.0:
         t += 2.0 * math.pi / aw
     return t if t > 0.0 else INF
+
+
+@jit(inline="always")
+def angle_bounds(X, Y):
+    """``(lo, hi)``: bounds on ``atan2(Y, X)`` in ``[0, pi/2]`` (``X, Y >= 0``), a quadratic in the smaller ratio."""
+    if Y <= X:
+        v = Y / X if X > 0.0 else 0.0  # X = Y = 0 (an underflowed root): the bounds stay finite
+        a = v * (0.25 * math.pi + ATAN_SLOPE * (1.0 - v))
+    else:  # atan(Y / X) = pi/2 - atan(X / Y)
+        v = X / Y
+        a = 0.5 * math.pi - v * (0.25 * math.pi + ATAN_SLOPE * (1.0 - v))
+    return a - ATAN_ERROR, a + ATAN_ERROR
+
+
+@jit(inline="always")
+def exit_after(num, den, W, lo, hi):
+    """True if the root ``zeta = num / den`` (``den >= 0``, ``W != 0``) certainly has ``lo + t > hi`` for its time
+    ``t = zeta_time(num, den, W)`` (or none), from a lower bound on ``t`` without an ``atan2``.
+
+    ``t = 2 psi / |W|`` with the half-angle ``psi`` in ``(0, pi)``: ``atan2(z, 2 den)`` for ``z = |W| num > 0``,
+    ``pi - atan2(-z, 2 den)`` for ``z <= 0`` (past half a period; ``z = 0`` is ``t = 0``, no root).  The bound
+    lies at least 0.001 below ``psi``, far more than the computed ``t`` can round below ``2 psi / |W|``, so
+    rounding only ever keeps a root (``lo + t`` rounds monotonically): false for a root that may be in time.
+    """
+    aw = abs(W)
+    z = aw * num
+    if z > 0.0:
+        psi = angle_bounds(2.0 * den, z)[0]
+    else:
+        psi = math.pi - angle_bounds(2.0 * den, -z)[1]
+    return lo + 2.0 * psi / aw > hi
 
 
 @jit(inline="always")

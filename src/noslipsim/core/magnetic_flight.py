@@ -14,7 +14,8 @@ from .jit import jit
 from .layout import ARC, LINE, SEGMENT
 from .magnetic import (
     advance,
-    circle_coefficients,
+    circle_coefficients_at,
+    exit_after,
     exit_root,
     exit_time,
     functional_coefficients,
@@ -22,7 +23,7 @@ from .magnetic import (
     root_position,
     zeta_time,
 )
-from .search import leading_point, reach_box, same_flight
+from .search import leading_point, reach_box
 
 INF = math.inf
 #: The search is compiled once, called per cell.
@@ -40,25 +41,41 @@ def state_at(F, t):
     return advance(F[0], F[1], F[2], F[3], F[4], t)
 
 
-at_start = same_flight
+@jit(inline="always")
+def speed_bound(vx, vy):
+    """``|v|`` to rounding (the reach tests' margin of 1e-9 covers it) from ``sqrt``, not ``math.hypot`` (a libm call
+    per search, 5 to 10 % of a pentagon's collision); ``inf`` (no test) where the squares could under- or overflow."""
+    s2 = vx * vx + vy * vy
+    if not 1e-280 < s2 < 1e280:
+        return INF
+    return math.sqrt(s2)
+
+
+@jit(inline="always")
+def at_start(F):
+    """``(x, y, vx, vy, W, c)``: the flight from ``t = 0`` and a bound ``c`` on its speed (:func:`speed_bound`)."""
+    x, y, vx, vy, W = F
+    return x, y, vx, vy, W, speed_bound(vx, vy)
 
 
 @jit(inline="always")
 def window(F, lo):
-    """The state where a window opens at ``lo`` (the path from there is the same circle, re-based)."""
+    """The state where a window opens at ``lo`` (the path from there is the same circle, re-based), as
+    :func:`at_start` gives it."""
     if lo == 0.0:
-        return F
+        return at_start(F)
     x, y, vx, vy = advance(F[0], F[1], F[2], F[3], F[4], lo)
-    return x, y, vx, vy, F[4]
+    return x, y, vx, vy, F[4], speed_bound(vx, vy)
 
 
 @jit(inline="always")
 def window_box(F, G, lo, hi, extent_tol):
-    """A bounded window: the box the path, at its constant speed, cannot leave from where the window opens."""
+    """A bounded window: the box the path, at its constant speed, cannot leave from where the window opens
+    (the speed bound there, ``G[5]``: within rounding of the speed, which the box's margin covers)."""
     bounded = hi < INF
     bx0 = by0 = bx1 = by1 = 0.0
     if bounded:
-        bx0, by0, bx1, by1 = reach_box(G[0], G[1], math.hypot(F[2], F[3]), hi - lo, extent_tol)
+        bx0, by0, bx1, by1 = reach_box(G[0], G[1], G[5], hi - lo, extent_tol)
     return bounded, bx0, by0, bx1, by1
 
 
@@ -72,33 +89,49 @@ def element_exit(kind, p, G, S, deflate, lo, hi, extent_tol):
     ``G`` is the state at ``lo`` (:func:`window`; ``deflate`` only with ``lo = 0``): the next exit after
     ``lo``, as a closed path meets an element at one root per period.  Copies the path cannot reach
     before ``hi`` (their distance over the speed) and exits after ``hi`` are dropped before the
-    exit's time and point are formed: the cell search passes the earliest hit so far as ``hi``.
+    exit's time and point are formed: the cell search passes the earliest hit so far as ``hi``.  A
+    segment's extent is tested before the time: the root's point is rational (:func:`root_position`),
+    its time an ``atan2``, and most lines the cyclotron circle crosses it leaves off their segment.
+    With ``hi`` finite, an exit certainly after it is dropped before that ``atan2``
+    (:func:`magnetic.exit_after`).
     """
-    x, y, vx, vy, W = G
+    x, y, vx, vy, W, c = G
     x -= S[0]
     y -= S[1]
-    if not deflate and hi < INF:  # |q(t) - q(lo)| <= c (t - lo): no hit before the distance is flown
-        if kind == LINE or kind == SEGMENT:
-            gap = (x - p[0]) * p[2] + (y - p[1]) * p[3]
-        else:
-            gap = p[3] * (math.hypot(x - p[0], y - p[1]) - p[2])
-        if gap > math.hypot(vx, vy) * (hi - lo) * (1.0 + 1e-9) + extent_tol:
-            return INF
+    # |q(t) - q(lo)| <= c (t - lo): no hit before the distance ``gap`` is flown
+    reach = c * (hi - lo) * (1.0 + 1e-9) + extent_tol if not deflate and hi < INF else INF
     if kind == LINE or kind == SEGMENT:  # layout normals point into the table; magnetic's out of it
+        if (x - p[0]) * p[2] + (y - p[1]) * p[3] > reach:
+            return INF
         c0, c1, c2, m0, m1, m2 = line_coefficients(x, y, vx, vy, W, p[0], p[1], -p[2], -p[3], deflate)
     else:
-        c0, c1, c2, m0, m1, m2 = circle_coefficients(x, y, vx, vy, W, p[0], p[1], p[2], p[3], deflate)
+        rho = math.hypot(x - p[0], y - p[1])  # the gap's and the quadratic's: one hypot for both
+        if p[3] * (rho - p[2]) > reach:
+            return INF
+        c0, c1, c2, m0, m1, m2 = circle_coefficients_at(x, y, vx, vy, W, p[0], p[1], p[2], p[3], deflate, rho,
+                                                        math.hypot(vx, vy))
     found, num, den = exit_root(c0, c1, c2, m0, m1, m2, deflate)
     if not found:
+        return INF
+    if kind == SEGMENT and not _in_extent(kind, p, x, y, vx, vy, W, num, den, extent_tol):
+        return INF
+    if hi < INF and W != 0.0 and exit_after(num, den, W, lo, hi):  # certainly late: no atan2 for its time
         return INF
     t = zeta_time(num, den, W)
     if t == INF or lo + t > hi:
         return INF
-    if kind == SEGMENT or kind == ARC:  # the point from the root itself: no sine or cosine
-        hx, hy = root_position(x, y, vx, vy, W, num, den)
-        if extent_position(kind, p, hx, hy, extent_tol) < 0:
-            return INF
+    # an arc's extent test takes an atan2 of its own: after the time, which rejects late exits first
+    if kind == ARC and not _in_extent(kind, p, x, y, vx, vy, W, num, den, extent_tol):
+        return INF
     return lo + t
+
+
+@jit(inline="always")
+def _in_extent(kind, p, x, y, vx, vy, W, num, den, extent_tol):
+    """The root ``zeta = num / den`` lies in the segment's or arc's extent (its point from the root itself: no
+    sine or cosine)."""
+    hx, hy = root_position(x, y, vx, vy, W, num, den)
+    return extent_position(kind, p, hx, hy, extent_tol) >= 0
 
 
 @jit(inline="always")
@@ -109,7 +142,7 @@ def _functional_exit(f, m0, nx, ny, vx, vy, W):
     return exit_time(c0, c1, c2, m0, m1, m2, W, False)
 
 
-@jit
+@jit(inline="always")  # a strip's two faces advance to the same t_in: inlined, that advance is formed once
 def face_exit(F, f0, nx, ny, t_in):
     """First time ``>= t_in`` at which ``f0 + n . (q(t) - q(0))`` (positive inside) leaves; ``t_in`` when on or
     past the face then and moving out (or along it and turning out)."""
