@@ -25,13 +25,14 @@ import math
 from .bounce import corner_pass, element_law, grazing, local_acceleration, rebase, settle_step
 from .cells import far_move
 from .disks import disk_lattice_kernel
-from .energy import SETTLE_EVERY, settle_mode, state_energy
+from .energy import SETTLE_EVERY, settle_mode, settle_whole, state_energy, targeted_settle
 from .fly import HIT, flight_setup, flight_steps
 from .geometry import lattice_shift, nearest_cell
 from .jit import SOURCE_STAMP, jit
 from .laws import collide
 from .layout import (
     NOSLIP,
+    PER_ELEMENT,
     RECORD_LOG,
     RECORD_NONE,
     SPECULAR,
@@ -44,12 +45,12 @@ from .layout import (
 )
 from .records import record
 from .tolerances import EXTENT_TOL
-from .variant import flight_switches, normalise, variant_code
+from .variant import WHOLE, flight_switches, normalise, variant_code
 
 INF = math.inf
 @functools.cache
 def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, flight=None, mixed=None,
-                 open_ends=None):
+                 open_ends=None, settle=None):
     """The event loop compiled for one kind of scene: a scene pays only for what it needs.
 
     The arguments are the slots of a :class:`variant.Variant`
@@ -74,6 +75,14 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
     junctions: no reflex vertex, no free end; ``KernelTable.open_ends``)
     compiles the cell search without the open-end rule
     (:func:`search.cell_search`), which such a table never needs.
+
+    ``settle`` (:mod:`variant`): ``WHOLE`` compiles the energy settle that
+    scales the whole state (:func:`energy.settle_whole`) and nothing else,
+    ``TARGETED`` the part chosen per orbit (:func:`energy.settle_mode`,
+    :func:`energy.settle_velocity`); ``None`` applies the table's rule
+    (:func:`energy.targeted_settle`) at run time, as ``KernelTable.settle``
+    does before compiling.  Both tests open the loop's own branches, which
+    numba prunes.
 
     ``walls=False`` (no element flagged ``layout.LONG_WALL``: every polygon,
     box or disk table whose walls are short against its smallest feature)
@@ -104,11 +113,11 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
     table has a no-slip element, so ``mixed=True`` needs the spin
     (``spin=False`` is the specular law everywhere, whatever the table says).
     """
-    variant = normalise(spin, lattice, mode, disks, walls, flight, mixed, open_ends)  # raises on impossible ones
+    variant = normalise(spin, lattice, mode, disks, walls, flight, mixed, open_ends, settle)  # raises on impossible
     if variant.disks:
         return disk_lattice_kernel(spin, mode)
     VARIANT = variant_code(variant)  # reported with results
-    spin, lattice, mode, disks, walls, flight, mixed, open_ends = variant
+    spin, lattice, mode, disks, walls, flight, mixed, open_ends, settle = variant
     # the flights: each branch of one opens with one of these constants (never a thermostat or field for nothing)
     FORCE_RT, FORCE, THERMO_ANY, THERMO_ALWAYS, THERMO_RT, MAG_ANY, MAG_ALWAYS, FAR_MOVE = flight_switches(variant)
     SPIN_RT = spin is None
@@ -120,6 +129,9 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
     MODE = RECORD_LOG if mode is None else int(mode)
     WALLS = walls is None or bool(walls)  # a compile-time constant: False drops the long-wall check
     OPEN_ENDS = open_ends is None or bool(open_ends)  # False drops the open-end rule (search.cell_search)
+    # the settle's form: the whole state, the targeted part, or the table's rule read at run time
+    SETTLE_RT = settle is None
+    SETTLE_WHOLE = settle == WHOLE
     # per-element laws: compiled in only where a table may mix them
     MIXED_ANY = mixed is not False
     MIXED_ALWAYS = mixed is True
@@ -211,7 +223,10 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
         # the energy to keep (energy.settle), twice the start's (gamma = 0 keeps the spin's apart, as specular)
         mixes = law != SPECULAR and s != 0.0  # the spin takes part in the energy exchange (some no-slip element)
         e0 = state_energy(vx, vy, w, mixes, ax, ay, x, y, potential)[0]
-        how = settle_mode(potential, mixes, thermo or mag)  # where a correction goes (energy.settle)
+        how = settle_mode(potential, mixes, thermo or mag)  # where a targeted correction goes (energy.settle)
+        whole = SETTLE_WHOLE  # the whole-state settle (energy.settle_whole); at run time by the table's rule
+        if SETTLE_RT:
+            whole = not targeted_settle(kinds, law == PER_ELEMENT, potential, mixes, thermo or mag)
         t = 0.0
         t_hit = INF
         cur_e = start_element
@@ -279,7 +294,11 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
                     stop = STOP_GRAZING
                     break
                 if n >= settle_next and n < max_collisions:  # (none after the last collision, as before)
-                    vx, vy, w = settled(vx, vy, w, mixes, ax, ay, x + ox, y + oy, potential, e0, how, law_e, nx, ny)
+                    if SETTLE_WHOLE or (SETTLE_RT and whole):
+                        vx, vy, w = settle_whole(vx, vy, w, mixes, ax, ay, x + ox, y + oy, potential, e0)
+                    else:
+                        vx, vy, w = settled(vx, vy, w, mixes, ax, ay, x + ox, y + oy, potential, e0, how, law_e,
+                                            nx, ny)
                     settle_next = n + SETTLE_EVERY
             if FAR_MOVE and stop == STOP_ESCAPE and t_hit < INF and has_force and lattice:
                 # a far hit under a force (walk status 2, t_hit finite): the plain hit point would carry eps x the
