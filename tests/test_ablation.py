@@ -24,7 +24,7 @@ from noslipsim import Circle, Scene, tables
 from noslipsim._engine.table import kernel_table
 from noslipsim.core import layout
 from noslipsim.core.loop import orbit_kernel, run_orbit
-from noslipsim.core.variant import FORCE, GENERAL, STRAIGHT, Variant
+from noslipsim.core.variant import FORCE, GENERAL, STRAIGHT, TARGETED, WHOLE, Variant
 from noslipsim.scenes import MIN_FORCE
 from noslipsim.simulate import start_cell
 
@@ -146,7 +146,7 @@ def test_comparison_sees_one_ulp_and_a_wrong_law():
 @pytest.mark.parametrize("name,law", CASES)
 def test_kernel_variant_asks_only_for_what_the_scene_needs(name, law, mode):
     scene = scene_of(name, law)[0]
-    spin, lattice, m, disks, walls, flight, mixed, open_ends = kernel_table(scene).variant(mode)
+    spin, lattice, m, disks, walls, flight, mixed, open_ends, settle = kernel_table(scene).variant(mode)
     # exact bools: orbit_kernel tells "fixed False" from "read at run time" by identity (``is False``)
     assert all(f is True or f is False for f in (spin, lattice, disks, walls, mixed, open_ends))
     assert open_ends is False  # closed tables: no reflex junction, no free end, no open-end rule compiled
@@ -158,6 +158,10 @@ def test_kernel_variant_asks_only_for_what_the_scene_needs(name, law, mode):
     # no records: the recorder is compiled out; a log or a portrait: one kernel reads which at run time
     assert (m == mode and type(m) is int) if mode == NONE else m is None
     assert disks is (name == "sinai_torus")
+    # the settle's form (core/energy.py, "Which form"): targeted for a line or segment (the pentagon, the box,
+    # the wedge) and for the spin in flight under free fall (no-slip, a force); whole for disks only otherwise
+    flat = name in ("pentagon", "sinai_box", "wedge")
+    assert settle == (TARGETED if flat or (flight == FORCE and law == "no-slip") else WHOLE)
     assert walls is (name == "wedge")
 
 

@@ -20,8 +20,11 @@ from noslipsim.core.variant import (
     FLIGHTS,
     FORCE,
     MAGNETIC,
+    SETTLES,
     STRAIGHT,
+    TARGETED,
     THERMOSTAT,
+    WHOLE,
     Variant,
     decode,
     describe,
@@ -32,14 +35,17 @@ from noslipsim.core.variant import (
 
 BOOLS = (None, False, True)
 VALUES = {"spin": BOOLS, "lattice": BOOLS, "mode": (None, *variant.MODES), "disks": BOOLS, "walls": BOOLS,
-          "flight": (None, STRAIGHT, FORCE, THERMOSTAT, MAGNETIC), "mixed": BOOLS, "open_ends": BOOLS}
+          "flight": (None, STRAIGHT, FORCE, THERMOSTAT, MAGNETIC), "mixed": BOOLS, "open_ends": BOOLS,
+          "settle": (None, WHOLE, TARGETED)}
 #: Every spelling of a variant, impossible ones included.
 EVERY = [Variant(*values) for values in itertools.product(*(VALUES[name] for name in variant.SLOTS))]
 
 
 def possible(v):
-    """No mixed table without the spin, none in the disk loop."""
-    return not (v.mixed and (v.spin is False or v.disks))
+    """No mixed table without the spin, none in the disk loop or with the whole-state settle; no targeted settle in
+    the disk loop."""
+    mixed_ok = not (v.mixed and (v.spin is False or v.disks or v.settle == WHOLE))
+    return mixed_ok and not (v.disks and v.settle == TARGETED)
 
 
 POSSIBLE = [v for v in EVERY if possible(v)]
@@ -72,6 +78,8 @@ def old_constants(v):
         "LAW_KEPT": spin is None or (bool(spin) and mixed is not False),
         "FAR_MOVE": force is not False and lattice is not False and not thermo_always,
         "OPEN_ENDS": v.open_ends is None or bool(v.open_ends),  # (new with the slot: the cell search's rule)
+        # (new with the slot: the settle's form, read at run time or one compiled in)
+        "SETTLE_RT": v.settle is None, "SETTLE_WHOLE": v.settle == WHOLE,
     }
 
 
@@ -115,7 +123,9 @@ def compiled_constants(kernel):
 def test_every_variant_compiles_the_decisions_of_its_old_spelling():
     """Each general-loop variant captures exactly the constants (values and types) its old spelling did."""
     general_loop = [v for v in POSSIBLE if not v.disks]
-    assert len(general_loop) == (3 * 3 * 4 * 2 * 3 * 5 * 3 - 3 * 4 * 2 * 3 * 5) * 3  # minus mixed=True, spin=False
+    # (spin, lattice, mode, disks, walls, flight) x open_ends x (mixed, settle): mixed=None or False with any of
+    # the three settles, mixed=True (not with spin=False) with the run-time or the targeted one
+    assert len(general_loop) == 3 * 4 * 2 * 3 * 5 * 3 * (3 * 2 * 3 + 2 * 2)
     for v in general_loop:
         got = compiled_constants(orbit_kernel(*v))
         want = old_constants(normalise(*v))
@@ -135,7 +145,7 @@ def test_the_kernel_table_builds_each_flight():
     # the thermostat on no force flies straight lines (tests/test_thermostat_orbits.py: bit for bit)
     assert kernel_table(box.replace(thermostat="isokinetic")).variant(0).flight == STRAIGHT
     # a disk lattice: the lean loop's fixed slots
-    lean = Variant(True, True, 0, True, False, STRAIGHT, False, False)
+    lean = Variant(True, True, 0, True, False, STRAIGHT, False, False, WHOLE)
     assert kernel_table(tables.sinai_torus(0.25)).variant(0) == lean
 
 
@@ -153,6 +163,10 @@ def test_the_kernel_table_builds_each_flight():
     (dict(walls=2), "walls: expected"),
     (dict(disks=0), "disks: expected"),
     (dict(mixed=1), "mixed: expected"),
+    (dict(mixed=True, settle=WHOLE), "settle=WHOLE would scale it"),  # the spin over specular elements
+    (dict(disks=True, settle=TARGETED), "compiles settle=WHOLE"),
+    (dict(settle=True), "settle: expected one of 0 \\(whole\\), 1 \\(targeted\\)"),  # a bool: a slot out of place
+    (dict(settle=2), "settle: expected"),
 ])
 def test_impossible_variants_are_refused(slots, message):
     with pytest.raises(ValueError, match=message):
@@ -183,7 +197,7 @@ def test_run_orbits_refuses_a_bad_variant_before_compiling():
 def test_the_disk_loop_fixes_its_slots():
     for v in POSSIBLE:
         if v.disks:
-            assert normalise(*v) == Variant(v.spin, True, v.mode, True, False, STRAIGHT, False, False)
+            assert normalise(*v) == Variant(v.spin, True, v.mode, True, False, STRAIGHT, False, False, WHOLE)
 
 
 # ------------------------------------------------------------------ the reported number
@@ -197,7 +211,7 @@ def test_report_is_unique_per_variant():
     assert len(set(reports)) == len(reports) == len(by_variant)
     # the batch kernel's summary is float64: every number must survive it
     assert all(int(float(r)) == r for r in reports)
-    assert max(variant_code(v) for v in POSSIBLE) < 2 ** 20
+    assert max(variant_code(v) for v in POSSIBLE) < 2 ** 21
 
 
 def _parse(text):
@@ -211,6 +225,8 @@ def _parse(text):
             values.append(None)
         elif name == "flight":
             values.append(FLIGHTS.index(value))
+        elif name == "settle":
+            values.append(SETTLES.index(value))
         elif name == "mode":
             values.append(int(value))
         else:
@@ -224,6 +240,12 @@ def test_describe_round_trips_every_variant():
         assert _parse(describe(report(v))) == (normalise(*v), SOURCE_STAMP)
 
 
+def test_describe_names_the_settle_form():
+    assert "settle=whole" in describe(report(Variant(settle=WHOLE)))
+    assert "settle=targeted" in describe(report(Variant(settle=TARGETED)))
+    assert "settle=whole" in describe(report(Variant(disks=True)))  # the lean loop's one form
+
+
 def test_describe_names_the_flight():
     assert "flight=force" in describe(report(Variant(flight=FORCE)))
     assert "flight=straight" in describe(report(Variant(flight=STRAIGHT)))
@@ -231,11 +253,11 @@ def test_describe_names_the_flight():
     assert "flight=magnetic" in describe(report(Variant(flight=MAGNETIC)))
     assert describe(report(variant.GENERAL)) == (
         f"spin=runtime, lattice=runtime, mode=runtime, disks=False, walls=runtime, flight=runtime, "
-        f"mixed=runtime, open_ends=runtime (core sources {SOURCE_STAMP:08x})")
+        f"mixed=runtime, open_ends=runtime, settle=runtime (core sources {SOURCE_STAMP:08x})")
 
 
 def test_describe_marks_a_digit_no_slot_has():
     """A number no kernel reports (a corrupted summary) is still described, its odd digits marked."""
-    junk = (variant_code(Variant(spin=True)) + 2 * 5 ** 7) << 32  # spin's digit 1 + 2: no truth value
+    junk = (variant_code(Variant(spin=True)) + 2 * 5 ** 8) << 32  # spin's digit 1 + 2: no truth value
     assert describe(junk).startswith("spin=?3, ")
 

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core import layout, variant
+from ..core.energy import targeted_settle
 from .junctions import end_factors, junction_arrays
 from .lattice import disks_apart, lattice_matrix, reaching_copies
 from .memo import per_scene
@@ -100,19 +101,31 @@ class KernelTable:
         """The compile-time slots of the event loop for this table and record mode.
 
         A :class:`noslipsim.core.variant.Variant` ``(spin, lattice, mode, disks,
-        walls, flight, mixed, open_ends)``, each slot an exact bool (the record mode and the
-        flight ints): a scene without force never pays for cubic or quartic
+        walls, flight, mixed, open_ends, settle)``, each slot an exact bool (the record mode, the
+        flight and the settle form ints): a scene without force never pays for cubic or quartic
         exits, a specular one for spin updates, a plain one for the cell walk,
         ``RECORD_NONE`` for the recorder (a recording run reads its mode at run
         time, :func:`recording_slot`), a table without long walls for their exact
         check, a scene without the thermostat or a field for those flights, a
         table of one law for per-element laws, a table without reflex junctions
-        or free ends for the open-end rule
+        or free ends for the open-end rule, a table with no invariant the
+        targeted settle keeps for that settle (:attr:`settle`)
         (:func:`noslipsim.core.loop.orbit_kernel`).
         """
         return variant.normalise(spin=self.noslip, lattice=self.lattice, mode=recording_slot(mode),
                                  disks=self.disk_lattice, walls=self.long_walls, flight=self.flight, mixed=self.mixed,
-                                 open_ends=self.open_ends)
+                                 open_ends=self.open_ends, settle=self.settle)
+
+    @property
+    def settle(self):
+        """The energy settle's form, ``variant.TARGETED`` or ``variant.WHOLE``: targeted where the table
+        keeps an invariant a whole-state correction would break (:func:`noslipsim.core.energy.targeted_settle`,
+        the rule the general kernel applies at run time; the invariants: :mod:`noslipsim.core.energy`)."""
+        flight = self.flight
+        mixes = self.law != layout.SPECULAR and self.s != 0.0  # as the kernel reads it
+        targeted = targeted_settle.py_func(self.kinds, self.mixed, flight == variant.FORCE, mixes,
+                                           flight in (variant.THERMOSTAT, variant.MAGNETIC))
+        return variant.TARGETED if targeted else variant.WHOLE
 
     @property
     def open_ends(self):

@@ -7,7 +7,7 @@ branches on those constants before typing, so a variant compiles none of what it
 import functools
 import math
 
-from .energy import settle, settle_velocity
+from .energy import settle, settle_velocity, settle_whole, targeted_settle
 from .events import leaves_through_contact, slides_off
 from .geometry import copy_shift, lattice_shift, nearest_cell, place_on_element
 from .jit import jit
@@ -179,13 +179,28 @@ def grazing(acceleration):
 
 
 @functools.cache
-def settle_step(MIXED_ANY):
-    """``settled(...)``: the energy given back (:func:`energy.settle`); after a specular element of a mixed
-    table, to the velocity only, so the spin keeps its bits (:func:`energy.settle_velocity`)."""
+def settle_step(MIXED_ANY, SETTLE_WHOLE, SETTLE_RT):
+    """``(form, settled)``: the settle's form for an orbit, and the energy given back in that form.
+
+    ``form(kinds, law, potential, mixes, bends)``: True for the whole-state settle (``SETTLE_WHOLE``, or
+    where ``SETTLE_RT`` by the table's rule, :func:`energy.targeted_settle`).  ``settled(..., whole, law_e,
+    nx, ny)``: the whole state scaled (:func:`energy.settle_whole`) or the targeted part
+    (:func:`energy.settle`); after a specular element of a mixed table, the velocity only, so the spin
+    keeps its bits (:func:`energy.settle_velocity`).  The form is tested on these constants, so a kernel
+    of one form compiles that form only.
+    """
     @jit(inline="always")
-    def settled(vx, vy, w, mixes, ax, ay, x, y, potential, e0, how, law_e, nx, ny):
+    def form(kinds, law, potential, mixes, bends):
+        if SETTLE_RT:
+            return not targeted_settle(kinds, law == PER_ELEMENT, potential, mixes, bends)
+        return SETTLE_WHOLE
+
+    @jit(inline="always")
+    def settled(vx, vy, w, mixes, ax, ay, x, y, potential, e0, how, whole, law_e, nx, ny):
+        if SETTLE_WHOLE or (SETTLE_RT and whole):
+            return settle_whole(vx, vy, w, mixes, ax, ay, x, y, potential, e0)
         if MIXED_ANY and mixes and law_e == SPECULAR:
             return settle_velocity(vx, vy, w, mixes, ax, ay, x, y, potential, e0, how)
         return settle(vx, vy, w, mixes, ax, ay, x, y, potential, e0, how, nx, ny)
 
-    return settled
+    return form, settled

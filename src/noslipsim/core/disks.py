@@ -44,7 +44,7 @@ on the Sinai torus, 1.9 to 3 times on two- and five-disk cells
 import functools
 import math
 
-from .energy import SETTLE_EVERY, settle, settle_mode, state_energy
+from .energy import SETTLE_EVERY, settle_whole, state_energy
 from .exact import cross_dd, fma, lattice_shift_dd, offset_dd
 from .geometry import lattice_coordinates, lattice_shift, nearest_cell
 from .jit import SOURCE_STAMP, jit
@@ -487,12 +487,9 @@ def _disk_loop(spin, mode, one):
         # 1/r of the first disk once (the only one of a Sinai torus); of another disk at its hit
         e0 = copies[0, 0]
         ir0 = 1.0 / params[e0, 2]
-        # the energy kept (energy.settle); no force: |v|^2 (+ w^2 where the law exchanges it with the spin)
+        # the energy kept (energy.settle_whole); no force: |v|^2 (+ w^2 where the law exchanges it with the spin)
         mixes = law == NOSLIP and s != 0.0
         energy0 = state_energy(vx, vy, w, mixes, 0.0, 0.0, 0.0, 0.0, False)[0]
-        how = settle_mode(False, mixes, False)  # no force: the last pair (v_t, w) if it mixes
-        nx = 0.0  # the last collision's normal (set only where the law or the record needs it)
-        ny = 0.0
         t = 0.0
         # the disk the flight leaves: element cur_e of cell (cur_o1, cur_o2) (none at a start inside the table)
         cur_e = start_element
@@ -560,7 +557,8 @@ def _disk_loop(spin, mode, one):
                                              vx_in, vy_in, w_in, p, e, nx, ny)
             if stop != STOP_MAX_COLLISIONS or n >= max_collisions:  # stopped inside the block, or done
                 break
-            vx, vy, w = settle(vx, vy, w, mixes, 0.0, 0.0, 0.0, 0.0, False, energy0, how, nx, ny)
+            # disks only, no force: nothing a targeted part keeps, so the whole state (energy, "Which form")
+            vx, vy, w = settle_whole(vx, vy, w, mixes, 0.0, 0.0, 0.0, 0.0, False, energy0)
             block_end = min(max_collisions, n + SETTLE_EVERY)
         ox, oy = lattice_shift(A, m1, m2)
         # the final state may lie in another cell (a stop in mid-flight)

@@ -60,10 +60,45 @@ its bits.  Where the chosen part is too small to take the correction (no
 velocity along the force, a grazing hit without spin), the next choice takes
 it (under a force the last pair, if the law mixes the spin in, then the whole
 state).
+
+Which form: the invariants of each table class
+----------------------------------------------
+A kernel compiles one form (the variant's ``settle`` slot,
+``KernelTable.settle``): the **targeted** one above (:func:`settle`,
+:func:`settle_velocity`, the part chosen per orbit by :func:`settle_mode`), or
+the **whole** state scaled (:func:`settle_whole`), less code.  The
+targeted form exists to keep a quantity the dynamics keeps exactly, bit for
+bit; a table that has none runs the whole-state form, which keeps the energy
+and breaks nothing such a table can show.  The rule, :func:`targeted_settle`,
+one for the kernel table and for the general kernel (``settle=None``, read at
+run time); this list is the one place the invariants are written down
+(docs/algorithm.md, section 0, links here):
+
+* every table: the energy, to 1e-12 relative per 10^6 collisions (either form);
+* a line or segment, with straight flights or free fall: the velocity across
+  the force (free fall adds ``a_x t = 0`` to it), so ``|v_n|`` on walls
+  parallel to the force; without force and no-slip, a strip's ``|v_n|`` (axis
+  normals reverse it exactly, the pair ``(v_t, w)`` is settled): **targeted**;
+* a no-slip law (``gamma > 0``) under free fall, any elements (the no-slip
+  Galton board): the spin in flight, each collision meeting the spin the last
+  one left (the correction goes along the force, never into ``w``): **targeted**;
+* mixed laws, any flight: the spin over specular elements
+  (:func:`settle_velocity`): **targeted**;
+* disks, circles and arcs only, without force or with a specular law (Sinai
+  tori, the specular Galton board, the lemon; the lean disk loop always): the
+  energy only: **whole**;
+* the thermostat or a magnetic field, one law: the energy only (the flight
+  rounds every component of ``v``): **whole**.
+
+A specular table without force settles the whole state in either form
+(:func:`settle_mode`): its axis normals keep the energy exactly (no settle
+acts), and other normals keep no component's bits.  ``tests/test_settle_form.py``
+checks each class over 10^6 collisions.
 """
 import math
 
 from .jit import jit
+from .layout import LINE, SEGMENT
 
 #: Collisions between two measurements of the energy.
 SETTLE_EVERY = 256
@@ -98,6 +133,30 @@ def settle_mode(potential, mixes, thermo):
     if mixes and not thermo:
         return SETTLE_PAIR
     return SETTLE_ALL
+
+
+@jit(inline="always")
+def targeted_settle(kinds, mixed, potential, mixes, bends):
+    """The table keeps an invariant only the targeted settle keeps (module docstring, "Which form").
+
+    ``kinds``: the elements' kinds (``layout.LINE`` ... ``layout.ARC``);
+    ``mixed``: a table of mixed laws; ``potential``, ``mixes``: as in
+    :func:`settle_mode`; ``bends``: the thermostat or a magnetic field flies
+    the orbit (its flight rounds every component of ``v``).  True: the
+    targeted form (``variant.TARGETED``); False: the whole state
+    (``variant.WHOLE``, :func:`settle_whole`).  One rule for the kernel table
+    (``KernelTable.settle``) and the kernel that reads the form at run time.
+    """
+    if mixed:  # the spin over specular elements (settle_velocity)
+        return True
+    if bends:  # nothing but the energy is exact
+        return False
+    if potential and mixes:  # the spin in flight (the velocity along the force takes the correction)
+        return True
+    for kind in kinds:  # the normal speed on flat walls: parallel to the force, or a strip's
+        if kind == LINE or kind == SEGMENT:
+            return True
+    return False
 
 
 @jit(inline="always")
@@ -146,12 +205,33 @@ def settle(vx, vy, w, spin, ax, ay, qx, qy, has_force, e0, how=SETTLE_ALL, nx=0.
             if abs(f) < MAX_SETTLE:
                 k = vt * f
                 return vx - k * ny, vy + k * nx, w + w * f
-        f = half / kin
-        if abs(f) < MAX_SETTLE:
-            vx += vx * f
-            vy += vy * f
-            if spin:
-                w += w * f
+        return _scale_state(vx, vy, w, spin, half, kin)
+    return vx, vy, w
+
+
+@jit  # not inlined, as settle
+def settle_whole(vx, vy, w, spin, ax, ay, qx, qy, has_force, e0):
+    """:func:`settle` of the whole-state form (``variant.WHOLE``): ``(v, w)`` scaled, no part chosen.
+
+    The same numbers as ``settle(..., how=SETTLE_ALL)``, compiled without the
+    targeted forms: a table that has no invariant they keep (:func:`targeted_settle`)
+    runs this one.
+    """
+    half, kin = _half_excess(vx, vy, w, spin, ax, ay, qx, qy, has_force, e0)
+    if half != 0.0:
+        return _scale_state(vx, vy, w, spin, half, kin)
+    return vx, vy, w
+
+
+@jit(inline="always")
+def _scale_state(vx, vy, w, spin, half, kin):
+    """``(v, w)`` (``w`` only if ``spin``) scaled to give ``half`` back, unless that is too large a change."""
+    f = half / kin
+    if abs(f) < MAX_SETTLE:
+        vx += vx * f
+        vy += vy * f
+        if spin:
+            w += w * f
     return vx, vy, w
 
 

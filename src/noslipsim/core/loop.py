@@ -44,12 +44,12 @@ from .layout import (
 )
 from .records import record
 from .tolerances import EXTENT_TOL
-from .variant import flight_switches, normalise, variant_code
+from .variant import WHOLE, flight_switches, normalise, variant_code
 
 INF = math.inf
 @functools.cache
 def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, flight=None, mixed=None,
-                 open_ends=None):
+                 open_ends=None, settle=None):
     """The event loop compiled for one kind of scene: a scene pays only for what it needs.
 
     The arguments are the slots of a :class:`variant.Variant`
@@ -74,6 +74,14 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
     junctions: no reflex vertex, no free end; ``KernelTable.open_ends``)
     compiles the cell search without the open-end rule
     (:func:`search.cell_search`), which such a table never needs.
+
+    ``settle`` (:mod:`variant`): ``WHOLE`` compiles the energy settle that
+    scales the whole state (:func:`energy.settle_whole`) and nothing else,
+    ``TARGETED`` the part chosen per orbit (:func:`energy.settle_mode`,
+    :func:`energy.settle_velocity`); ``None`` applies the table's rule
+    (:func:`energy.targeted_settle`) at run time, as ``KernelTable.settle``
+    does before compiling.  The step that settles (:func:`bounce.settle_step`)
+    tests these constants in its own branches, which numba prunes.
 
     ``walls=False`` (no element flagged ``layout.LONG_WALL``: every polygon,
     box or disk table whose walls are short against its smallest feature)
@@ -104,11 +112,11 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
     table has a no-slip element, so ``mixed=True`` needs the spin
     (``spin=False`` is the specular law everywhere, whatever the table says).
     """
-    variant = normalise(spin, lattice, mode, disks, walls, flight, mixed, open_ends)  # raises on impossible ones
+    variant = normalise(spin, lattice, mode, disks, walls, flight, mixed, open_ends, settle)  # raises on impossible
     if variant.disks:
         return disk_lattice_kernel(spin, mode)
     VARIANT = variant_code(variant)  # reported with results
-    spin, lattice, mode, disks, walls, flight, mixed, open_ends = variant
+    spin, lattice, mode, disks, walls, flight, mixed, open_ends, settle = variant
     # the flights: each branch of one opens with one of these constants (never a thermostat or field for nothing)
     FORCE_RT, FORCE, THERMO_ANY, THERMO_ALWAYS, THERMO_RT, MAG_ANY, MAG_ALWAYS, FAR_MOVE = flight_switches(variant)
     SPIN_RT = spin is None
@@ -135,7 +143,7 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
     acceleration = local_acceleration(THERMO_ANY, THERMO_ALWAYS, MAG_ANY, MAG_ALWAYS)
     corners = corner_pass(law_of, acceleration)
     grazes = grazing(acceleration)
-    settled = settle_step(MIXED_ANY)
+    settle_form, settled = settle_step(MIXED_ANY, settle == WHOLE, settle is None)
 
     @jit
     def run_orbit(kinds, params, copies, A, B, lattice, jstart, jpts, law, c, s, ax, ay, thermostat, x, y, vx, vy, w,
@@ -211,7 +219,8 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
         # the energy to keep (energy.settle), twice the start's (gamma = 0 keeps the spin's apart, as specular)
         mixes = law != SPECULAR and s != 0.0  # the spin takes part in the energy exchange (some no-slip element)
         e0 = state_energy(vx, vy, w, mixes, ax, ay, x, y, potential)[0]
-        how = settle_mode(potential, mixes, thermo or mag)  # where a correction goes (energy.settle)
+        how = settle_mode(potential, mixes, thermo or mag)  # where a targeted correction goes (energy.settle)
+        whole = settle_form(kinds, law, potential, mixes, thermo or mag)  # the whole-state settle, or the targeted
         t = 0.0
         t_hit = INF
         cur_e = start_element
@@ -279,7 +288,8 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
                     stop = STOP_GRAZING
                     break
                 if n >= settle_next and n < max_collisions:  # (none after the last collision, as before)
-                    vx, vy, w = settled(vx, vy, w, mixes, ax, ay, x + ox, y + oy, potential, e0, how, law_e, nx, ny)
+                    vx, vy, w = settled(vx, vy, w, mixes, ax, ay, x + ox, y + oy, potential, e0, how, whole, law_e,
+                                        nx, ny)
                     settle_next = n + SETTLE_EVERY
             if FAR_MOVE and stop == STOP_ESCAPE and t_hit < INF and has_force and lattice:
                 # a far hit under a force (walk status 2, t_hit finite): the plain hit point would carry eps x the

@@ -1,10 +1,11 @@
 """Kernel variants: the compile-time slots of the event loop, and the number a kernel reports them by.
 
-A variant is a :class:`Variant`, ``(spin, lattice, mode, disks, walls, flight, mixed, open_ends)``
+A variant is a :class:`Variant`, ``(spin, lattice, mode, disks, walls, flight, mixed, open_ends, settle)``
 (:func:`loop.orbit_kernel`): each slot ``True``/``False`` (a record mode for
 ``mode``; for ``flight`` one of :data:`STRAIGHT` (no force), :data:`FORCE`
 (free fall under the force), :data:`THERMOSTAT` (the force flown isokinetically)
-or :data:`MAGNETIC` (a field normal to the table, no force)), or ``None`` for
+or :data:`MAGNETIC` (a field normal to the table, no force); for ``settle``
+:data:`WHOLE` or :data:`TARGETED`, the energy settle's form), or ``None`` for
 "read from the arguments at run time".  :func:`normalise` refuses a combination
 no scene can have.  Every orbit kernel returns :func:`report` of the variant it
 was compiled for, a constant of its machine code; the caller compares it with
@@ -28,6 +29,13 @@ THERMOSTAT = 2
 MAGNETIC = 3
 #: Names of the flights, by code (as :func:`describe` prints them).
 FLIGHTS = ("straight", "force", "thermostat", "magnetic")
+#: The forms a ``settle`` slot may hold (:mod:`energy`, "Which form"): the whole state scaled
+#: (:func:`energy.settle_whole`), or the part where the rounding arose, chosen per orbit
+#: (:func:`energy.settle_mode`; :func:`energy.settle_velocity` after a mixed table's specular element).
+WHOLE = 0
+TARGETED = 1
+#: Names of the settle forms, by code.
+SETTLES = ("whole", "targeted")
 
 
 class Variant(NamedTuple):
@@ -52,6 +60,9 @@ class Variant(NamedTuple):
     open_ends : bool or None
         Some segment or arc has an open end (a reflex junction or a free end): the cell search's
         open-end rule is compiled in (:func:`search.cell_search`).
+    settle : int or None
+        :data:`WHOLE` or :data:`TARGETED`: the energy settle's one form compiled in
+        (:func:`energy.targeted_settle` decides it from the table; ``None``: from the arguments).
     """
 
     spin: bool | None = None
@@ -62,6 +73,7 @@ class Variant(NamedTuple):
     flight: int | None = None
     mixed: bool | None = None
     open_ends: bool | None = None
+    settle: int | None = None
 
 
 #: Names of the slots, in order.
@@ -107,7 +119,8 @@ _RUNTIME = len(FLIGHTS)  # digit of a slot left to run time
 _BASE = _RUNTIME + 1  # one digit per slot; the widest slot (flight) has len(FLIGHTS) values and run time
 
 
-def normalise(spin=None, lattice=None, mode=None, disks=None, walls=None, flight=None, mixed=None, open_ends=None):
+def normalise(spin=None, lattice=None, mode=None, disks=None, walls=None, flight=None, mixed=None, open_ends=None,
+              settle=None):
     """The variant as the kernel it selects sees it.
 
     Parameters
@@ -117,24 +130,27 @@ def normalise(spin=None, lattice=None, mode=None, disks=None, walls=None, flight
         One of :data:`MODES`.
     flight : int or None
         One of :data:`STRAIGHT`, :data:`FORCE`, :data:`THERMOSTAT`, :data:`MAGNETIC`.
+    settle : int or None
+        :data:`WHOLE` or :data:`TARGETED`.
 
     Returns
     -------
     Variant
         The disk loop (``disks=True``) has no force, walks a lattice, has no
-        walls, no open ends and one law whatever the other slots say, so those slots are
-        fixed there; ``disks=None`` reads as ``False`` (the loop is chosen
+        walls, no open ends, one law and the whole-state settle whatever the other slots say, so
+        those slots are fixed there; ``disks=None`` reads as ``False`` (the loop is chosen
         before compiling, never at run time).
 
     Raises
     ------
     ValueError
         A slot holds a value it cannot take, or the slots describe no scene:
-        a mixed table (``mixed=True``) without the spin (``spin=False``), or
-        in the disk loop.
+        a mixed table (``mixed=True``) without the spin (``spin=False``), in
+        the disk loop, or with the whole-state settle (it keeps the spin over
+        specular elements: targeted); the targeted settle in the disk loop (disks only).
     """
     spin, mixed = _flag("spin", spin), _flag("mixed", mixed)
-    mode, flight = _mode(mode), _flight(flight)
+    mode, flight, settle = _mode(mode), _flight(flight), _settle(settle)
     if mixed and spin is False:
         raise ValueError("variant: a mixed table (mixed=True) has a no-slip element; spin=False would make every "
                          "collision specular")
@@ -142,9 +158,15 @@ def normalise(spin=None, lattice=None, mode=None, disks=None, walls=None, flight
         if mixed:
             raise ValueError("variant: the lean disk loop (disks=True) knows one law; a mixed table (mixed=True) "
                              "runs the general loop")
-        return Variant(spin, True, mode, True, False, STRAIGHT, False, False)
+        if settle == TARGETED:
+            raise ValueError("variant: the lean disk loop (disks=True) has disks only, nothing the targeted settle "
+                             "keeps: it compiles settle=WHOLE")
+        return Variant(spin, True, mode, True, False, STRAIGHT, False, False, WHOLE)
+    if mixed and settle == WHOLE:
+        raise ValueError("variant: a mixed table (mixed=True) keeps its spin over specular elements; settle=WHOLE "
+                         "would scale it (the targeted settle keeps it)")
     return Variant(spin, _flag("lattice", lattice), mode, False, _flag("walls", walls), flight, mixed,
-                   _flag("open_ends", open_ends))
+                   _flag("open_ends", open_ends), settle)
 
 
 def _flag(name, value):
@@ -165,17 +187,30 @@ def _mode(value):
 
 
 def _flight(value):
+    # a bool is the old spelling (True: the thermostat), which no longer names a flight
+    return _code("flight", value, FLIGHTS)
+
+
+def _settle(value):
+    # a bool is a slot out of place, not a form
+    return _code("settle", value, SETTLES)
+
+
+def _code(name, value, names):
+    """A coded slot's value: ``None``, or an index into ``names`` (never a bool)."""
     if value is None:
         return None
-    # a bool is the old spelling (True: the thermostat), which no longer names a flight
-    if isinstance(value, (bool, np.bool_)) or operator.index(value) not in range(len(FLIGHTS)):
-        codes = ", ".join(f"{code} ({name})" for code, name in enumerate(FLIGHTS))
-        raise ValueError(f"flight: expected one of {codes} or None, got {value!r}")
+    if isinstance(value, (bool, np.bool_)) or operator.index(value) not in range(len(names)):
+        codes = ", ".join(f"{code} ({text})" for code, text in enumerate(names))
+        raise ValueError(f"{name}: expected one of {codes} or None, got {value!r}")
     return operator.index(value)
 
 
 def variant_code(flags):
-    """The variant (normalised) as a small integer: one base-5 digit per slot, in :data:`SLOTS` order."""
+    """The variant (normalised) as a small integer: one base-5 digit per slot, in :data:`SLOTS` order.
+
+    Nine slots stay below ``5**9 < 2**21``: :func:`report` shifted by 32 bits is exact in a float64.
+    """
     code = 0
     for value in normalise(*flags):
         digit = _RUNTIME if value is None else int(value)
@@ -206,6 +241,8 @@ def _slot_value(name, digit):
         return None
     if name == "flight":
         return digit
+    if name == "settle":
+        return digit if digit < len(SETTLES) else f"?{digit}"
     if name == "mode":
         return digit if digit in MODES else f"?{digit}"
     return bool(digit) if digit < 2 else f"?{digit}"
@@ -223,4 +260,6 @@ def _slot_text(name, value):
         return "runtime"
     if name == "flight":
         return FLIGHTS[value]
+    if name == "settle" and not isinstance(value, str):
+        return SETTLES[value]
     return str(value)
