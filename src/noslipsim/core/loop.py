@@ -135,9 +135,9 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
     LAW_KEPT = SPIN_RT or (SPIN and MIXED_ANY)
     # the steps (fly.py, bounce.py), each compiled with the constants it reads
     setup = flight_setup(THERMO_ANY, THERMO_RT, MAG_ANY, MAG_ALWAYS)
-    # the flight steps, chosen in the loop itself: numba prunes the loop's own branches before it inlines,
-    # not those of an inlined dispatch (there, every variant typed and lowered all three flights: a pentagon's
-    # compile took twice as long)
+    # the flight steps: each branch of the choice below opens with a compile-time constant, so a variant
+    # compiles only the flights it may fly (numba prunes a branch on a captured constant before typing; never
+    # pass such a switch in a tuple or through a run-time variable: both sides are then typed and compiled)
     fly_free, fly_thermo, fly_magnetic = flight_steps(LATTICE_ALWAYS, LATTICE_RT, WALLS, OPEN_ENDS, FORCE, FORCE_RT)
     law_of = element_law(MIXED_ANY, MIXED_ALWAYS)
     acceleration = local_acceleration(THERMO_ANY, THERMO_ALWAYS, MAG_ANY, MAG_ALWAYS)
