@@ -123,8 +123,9 @@ class KernelTable:
         the rule the general kernel applies at run time; the invariants: :mod:`noslipsim.core.energy`)."""
         flight = self.flight
         mixes = self.law != layout.SPECULAR and self.s != 0.0  # as the kernel reads it
-        targeted = targeted_settle.py_func(self.kinds, self.mixed, flight == variant.FORCE, mixes,
-                                           flight in (variant.THERMOSTAT, variant.MAGNETIC))
+        rule = getattr(targeted_settle, "py_func", targeted_settle)  # its Python (a plain function without jit)
+        targeted = rule(self.kinds, self.mixed, flight == variant.FORCE, mixes,
+                        flight in (variant.THERMOSTAT, variant.MAGNETIC))
         return variant.TARGETED if targeted else variant.WHOLE
 
     @property
