@@ -109,7 +109,7 @@ def far_flight(FALLING):
                                      vx, vy, ax, ay, FALLING, False, hi - lo, extent_tol)
 
     return FlightProtocol(
-        __name__=f"{__name__}.{'falling' if FALLING else 'straight'}", FALLING=FALLING,
+        __name__=f"{__name__}.{'falling' if FALLING else 'straight'}",
         # reached only by long flights: the search is compiled once, out of line; no exit searches
         INLINE=False, GIVES_UP=False, start=start, at_start=at_start, window=window, window_box=window_box,
         shift=shift, element_exit=element_exit)

@@ -59,7 +59,7 @@ def free_flight(FALLING):
         return advance(x, y, vx, vy, ax, ay, t, FALLING)
 
     return FlightProtocol(
-        __name__=f"{__name__}.{'falling' if FALLING else 'straight'}", FALLING=FALLING,
+        __name__=f"{__name__}.{'falling' if FALLING else 'straight'}",
         # the search is inlined where it is called: a call per cell costs more than its work
         INLINE=True, GIVES_UP=False, start=leading_point, at_start=same_flight, window=window,
         window_box=window_box, shift=copy_shift, element_exit=element_exit, state_at=state_at)

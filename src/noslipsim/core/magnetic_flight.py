@@ -142,7 +142,7 @@ def _functional_exit(f, m0, nx, ny, vx, vy, W):
     return exit_time(c0, c1, c2, m0, m1, m2, W, False)
 
 
-@jit(inline="always")  # a strip's two faces advance to the same t_in: inlined, that advance is formed once
+@jit(inline="always")  # a strip's two faces advance to the same t_in: inlined, LLVM may form it once (no gain measured)
 def face_exit(F, f0, nx, ny, t_in):
     """First time ``>= t_in`` at which ``f0 + n . (q(t) - q(0))`` (positive inside) leaves; ``t_in`` when on or
     past the face then and moving out (or along it and turning out)."""
