@@ -907,6 +907,11 @@ def test_scene_without_force_never_solves_a_cubic_or_quartic(monkeypatch):
             return fn(*args)
         return wrapper
 
+    # the compiled search first: numba reads the globals the patches below replace when it compiles
+    els, q0, _ = scene_for("pegs", np.random.default_rng(0))
+    kinds, params = kernel_table(Scene(els)).arrays()[:2]
+    for a, has_force in (((0.0, 0.0), False), ((0.0, -1.0), True)):
+        next_hit(kinds, params, q0[0], q0[1], 1.0, 0.3, a[0], a[1], has_force, -1, INF, 1e-11)
     monkeypatch.setattr(events, "cubic_exits", counting("cubic_exits", roots.cubic_exits))
     monkeypatch.setattr(events, "quartic_exits", counting("quartic_exits", roots.quartic_exits))
     monkeypatch.setattr(events, "exit_roots", events.exit_roots.py_func)
