@@ -2,15 +2,12 @@
 
 A flight crosses an element where its crossing polynomial
 ``p(t) = c0 + c1 t + c2 t^2 + c3 t^3 + c4 t^4`` (positive on the table side)
-changes sign from + to -.  Only those *exit* roots in ``(0, hi]`` matter.
-
-Linear and quadratic polynomials use closed forms (the cancellation-free
-quadratic formula).  Cubics and quartics are isolated exactly: the real roots
-of the derivative split ``[0, hi]`` into monotone pieces, each holding at most
-one root, which safeguarded Newton (bisection fallback) polishes to full
-precision.  No coefficient is compared against an epsilon: the degree is
-chosen by the caller from what the scene needs, and only exact zeros of a
-leading coefficient drop the degree.
+changes sign from + to -; only those *exit* roots in ``(0, hi]`` matter.
+Degrees 1 and 2 use closed forms (the cancellation-free quadratic formula).  Cubics and quartics are
+isolated exactly: the real roots of the derivative split ``[0, hi]`` into monotone pieces, each holding
+at most one root, which safeguarded Newton (bisection fallback) polishes to full precision.  No
+coefficient is compared against an epsilon: the caller fixes the degree from what the scene needs, and
+only an exactly zero leading coefficient lowers it.  docs/algorithm.md, *1. Next hit*.
 """
 import math
 
@@ -298,11 +295,9 @@ def surely_positive(c0, c1, c2, c3, c4, hi):
     """True if ``p`` (degree <= 4) is certainly positive on ``[0, hi]`` (finite ``hi``).
 
     ``p`` is a convex combination of its Bernstein coefficients on ``[0, hi]``
-    (``b_k = sum_j C(k, j)/C(4, j) c_j hi^j``), so ``min b_k > 0`` excludes a
-    root.  The margin, ``32 eps sum_j |c_j| hi^j``, exceeds both the rounding
-    of the ``b_k`` and that of evaluating ``p`` by Horner's rule, so a
-    polynomial excluded here is one the isolation below would find no exit
-    of either: the test only saves work, it never changes a result.
+    (``b_k = sum_j C(k, j)/C(4, j) c_j hi^j``), so ``min b_k > 0`` excludes a root.  The margin,
+    ``32 eps sum_j |c_j| hi^j``, exceeds the rounding of the ``b_k`` and of Horner's rule: the test
+    only saves work, it never changes a result.
     """
     d1 = c1 * hi
     d2 = c2 * hi * hi
@@ -359,13 +354,10 @@ CONVEX_NEWTON_STEPS = 16
 def convex_first_exit(c0, c1, c2, c3, c4, hi):
     """Exit root in ``(0, hi]`` of ``p`` convex on ``[0, hi]`` with ``p(0) = c0 > 0``; inf if none.
 
-    A convex ``p`` has at most one exit (its first root).  Newton's iterates
-    from ``t = 0`` increase monotonically and never pass that root, so the
-    first iterate beyond ``hi``, or one where ``p`` stops decreasing, proves
-    there is none in the window; no critical point needs to be located.
-    Returns ``-1`` when the iterates converge only linearly (a tangency to
-    rounding): the caller then decides by the full isolation, so a tangency
-    is treated as everywhere else.
+    A convex ``p`` has at most one exit; Newton's iterates from ``t = 0`` increase monotonically and
+    never pass it, so an iterate beyond ``hi``, or one where ``p`` stops decreasing, proves there is
+    none.  Returns ``-1`` when the iterates converge only linearly (a tangency to rounding): the caller
+    decides by the full isolation, as for every tangency.
     """
     t = 0.0
     f = c0

@@ -1,16 +1,12 @@
 """Kernel variants: the compile-time slots of the event loop, and the number a kernel reports them by.
 
-A variant is a :class:`Variant`, ``(spin, lattice, mode, disks, walls, flight, mixed, open_ends, settle)``
-(:func:`loop.orbit_kernel`): each slot ``True``/``False`` (a record mode for
-``mode``; for ``flight`` one of :data:`STRAIGHT` (no force), :data:`FORCE`
-(free fall under the force), :data:`THERMOSTAT` (the force flown isokinetically)
-or :data:`MAGNETIC` (a field normal to the table, no force); for ``settle``
-:data:`WHOLE` or :data:`TARGETED`, the energy settle's form), or ``None`` for
-"read from the arguments at run time".  :func:`normalise` refuses a combination
-no scene can have.  Every orbit kernel returns :func:`report` of the variant it
-was compiled for, a constant of its machine code; the caller compares it with
-:func:`report` of the variant it asked for and refuses a result from any other
-kernel (a wrong entry in the compile cache, however it got there).
+A :class:`Variant` holds the slots of :func:`loop.orbit_kernel`, each a compile-time value or ``None``
+("read from the arguments at run time"); :func:`normalise` refuses a combination no scene can have.
+Every orbit kernel returns :func:`report` of the variant it was compiled for, a constant of its machine
+code; the caller compares it with :func:`report` of the variant it asked for and refuses a result from
+any other kernel (a wrong entry in the compile cache, however it got there).  docs/algorithm.md,
+*Paying only for what a scene needs* and *One kernel call, and a compile cache that cannot hand back
+another variant*.
 """
 import operator
 from typing import NamedTuple
@@ -54,7 +50,8 @@ class Variant(NamedTuple):
     walls : bool or None
         Some element is a long wall: its exact check is compiled in.
     flight : int or None
-        :data:`STRAIGHT`, :data:`FORCE`, :data:`THERMOSTAT` or :data:`MAGNETIC`.
+        :data:`STRAIGHT` (no force), :data:`FORCE` (free fall under the force), :data:`THERMOSTAT` (the
+        force flown isokinetically) or :data:`MAGNETIC` (a field normal to the table, no force).
     mixed : bool or None
         The elements do not all share one law: per-element laws are compiled in.
     open_ends : bool or None
