@@ -8,7 +8,7 @@ can be hit again after any positive time (a ball bouncing on a peg).
 
 Degrees: lines 2 with force, 1 without; circles 4 with force, 2 without;
 each one less after deflation.  A scene without force never evaluates a cubic
-or quartic.
+or quartic.  docs/algorithm.md, *1. Next hit* to *5. Grazing guard*.
 """
 import math
 
@@ -41,10 +41,8 @@ def flight_position(x, y, vx, vy, ax, ay, t):
 def advance(x, y, vx, vy, ax, ay, t, has_force):
     """State ``(x, y, vx, vy)`` after time ``t >= 0`` of free flight.
 
-    Without a force (``ax = ay = 0``) the acceleration terms are exact zeros,
-    so they are skipped: same values, but the compiler cannot drop a
-    ``0 * t`` itself (``t`` might be infinite), and these operations lie on
-    the chain of dependent arithmetic from one collision to the next.
+    Without a force the acceleration terms are exact zeros, skipped: the same values, which the
+    compiler cannot drop itself (docs/algorithm.md, *Paying only for what a scene needs*).
     """
     if has_force:
         hx, hy = flight_position(x, y, vx, vy, ax, ay, t)
@@ -79,12 +77,10 @@ def exit_roots(kind, c0, c1, c2, c3, c4, has_force, deflate, hi):
 def straight_hit_time(kind, p, x, y, vx, vy, deflate, hi, extent_tol):
     """:func:`element_hit_time` for a straight flight (no force): the lean path.
 
-    The coefficients of :func:`geometry.crossing_coefficients` at ``a = 0``,
-    formed with the same floating-point operations (so the same hits, bit for
-    bit) but only those a straight flight needs: a wall the flight moves away
-    from is dropped before its distance is formed.  About 10 % faster on
-    plain scenes than the general coefficients (measured, Sinai box and
-    pentagon).
+    The coefficients of :func:`geometry.crossing_coefficients` at ``a = 0`` with the same
+    floating-point operations (the same hits, bit for bit), only those a straight flight needs: a wall
+    the flight moves away from is dropped before its distance is formed (measured: benchmarks/RESULTS.md,
+    *Single orbits*).
     """
     if kind == LINE or kind == SEGMENT:
         if deflate:  # a line is not met again after t = 0
@@ -124,14 +120,10 @@ def element_hit_time(kind, p, x, y, vx, vy, ax, ay, has_force, deflate, hi, exte
 def starts_at_open_end(kind, p, x, y, extent_tol):
     """True if a flight from ``(x, y)`` starts on this segment's or arc's line or circle at an open end.
 
-    An *open* end is a reflex junction or a free end (end factor < 1,
-    :mod:`noslipsim._engine.junctions`); "at" and "on" are to the rounding of a hit
-    point, ``NONCONVEX_END_FACTOR * extent_tol`` (the band beyond such an
-    end), both along the element and across it.  Such a start is the shared
-    vertex of a reflex junction just hit on the other piece (or a free end's
-    tip): the element's crossing polynomial has the exact root ``t = 0`` there,
-    which rounding moves to either side, and which is no collision (see
-    :func:`search.cell_search`).
+    An *open* end is a reflex junction or a free end (end factor < 1); "at" and "on" are to within
+    ``NONCONVEX_END_FACTOR * extent_tol`` along the element and across it.  There the crossing
+    polynomial's exact root ``t = 0`` is no collision, and the caller deflates it
+    (:func:`search.cell_search`; docs/algorithm.md, *4. Corner rule and element ends*).
     """
     band = extent_tol * NONCONVEX_END_FACTOR
     if not abs(signed_distance(kind, p, x, y)) <= band:
@@ -169,14 +161,9 @@ def window_box(bounded, xi, yi, vxi, vyi, ax, ay, span, extent_tol):
 def leaves_through_contact(kind, p, x, y, vx, vy, ax, ay, tol):
     """True if a particle at ``(x, y)`` touches this element and is moving out through it.
 
-    Touching: signed distance in ``[-tol, tol * CONTACT_GAP / CONTACT_TOL]``
-    (on or, by rounding, past its line; a real gap is left to the root finder).
-
-    Used for the corner rule: after a hit, any other element touched at the
-    same point (ends inclusive) whose supporting line or circle the new
-    velocity leaves through is hit at once.  At a convex vertex leaving that
-    half plane is leaving the table, whatever the direction along the element;
-    at a reflex vertex or free end (end factor < 1) there is no such contact.
+    Touching: signed distance in ``[-tol, tol * CONTACT_GAP / CONTACT_TOL]`` (on or, by rounding,
+    past its line; a real gap is left to the root finder), ends inclusive, never at a reflex or free
+    end (end factor < 1).  The corner rule's test (docs/algorithm.md, *4. Corner rule and element ends*).
     """
     d = signed_distance(kind, p, x, y)
     if d < -tol or d > tol * (CONTACT_GAP / CONTACT_TOL):
@@ -202,10 +189,8 @@ def leaves_through_contact(kind, p, x, y, vx, vy, ax, ay, tol):
 def slides_off(kind, p, x, y, vx, vy, ax, ay):
     """True if, just after a hit on this element, the flight leaves through it at once.
 
-    In exact arithmetic the post-collision normal velocity points into the
-    table; it can only fail to when the incoming normal velocity was zero to
-    rounding (a grazing contact under a force that presses the particle on the
-    wall, or a contact exactly along the wall): the event model cannot go on.
+    Possible only when the incoming normal velocity was zero to rounding; the event model cannot go
+    on (docs/algorithm.md, *5. Grazing guard*).
     """
     c1 = crossing_slope(kind, p, x, y, vx, vy)  # decides all but a contact along the wall
     if c1 > 0.0:
@@ -224,14 +209,11 @@ def slides_off(kind, p, x, y, vx, vy, ax, ay):
 def exact_line_hit(kind, p, x, y, vx, vy, ax, ay, has_force, deflated, t, hx, hy, px, py, vxi, vyi):
     """A hit on a line or segment redone where the plain distances cancelled (far along a long wall).
 
-    The hit search forms the start's distance ``(q - p0) . n`` plainly, which
-    carries ``eps |q - p0|``, and so does the projection of the hit point
-    ``(hx, hy)`` to ``(px, py)``.  Where the first cancelled (its terms exceed
-    ``LINE_GATE`` times its value) or the second's error exceeds ``LINE_GATE``
-    times the hit point's own rounding, the hit is redone by :func:`_redo_line_hit`.
-    Checked once per collision on the element hit, so the search over all
-    elements keeps its plain, cheaper form.  Returns ``(t, px, py, vx, vy)``
-    at the hit (``v`` changes with ``t`` under a force).
+    Where the start's plain distance cancelled (its terms exceed ``LINE_GATE`` times its value) or the
+    plain projection of ``(hx, hy)`` to ``(px, py)`` carries more than ``LINE_GATE`` times the hit
+    point's own rounding, :func:`_redo_line_hit`; once per collision, so the search over all elements
+    stays plain (docs/algorithm.md, *1. Next hit*).  Returns ``(t, px, py, vx, vy)`` at the hit (``v``
+    changes with ``t`` under a force).
     """
     a = (x - p[0]) * p[2]
     b = (y - p[1]) * p[3]

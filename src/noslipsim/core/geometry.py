@@ -29,13 +29,10 @@ from .layout import (
 
 TWO_PI = 2.0 * math.pi
 
-#: A line's value ``(q - p) . n`` is taken as formed when its two terms sum to at most
-#: this many times its size (its relative error, normal's rounding included, is then at
-#: most about ``3 LINE_GATE eps`` = 1.7e-13); otherwise it cancelled (a point far along a
-#: long wall from ``p``) and is formed again from the exact geometry, to a few ulps of
-#: itself.  Large enough that ordinary tables (a point near a wall, within a few wall
-#: lengths of its start) almost never take the exact path (measured: no bit changes on
-#: the pentagon and the Sinai box, benchmarks/results/ablation.md).
+#: A line's value ``(q - p) . n`` is taken as formed when its two terms sum to at most this many
+#: times its size (relative error then at most about ``3 LINE_GATE eps`` = 1.7e-13); otherwise it
+#: cancelled and is formed again exactly.  Large enough that ordinary tables almost never take the
+#: exact path (measured: benchmarks/results/ablation.md).  docs/algorithm.md, *1. Next hit*.
 LINE_GATE = 256.0
 
 
@@ -43,17 +40,9 @@ LINE_GATE = 256.0
 def line_value(kind, p, x, y):
     """Signed distance ``(q - p) . n_in`` of ``q = (x, y)`` from a line or segment (``p`` its row).
 
-    Measured from ``p`` (a segment's ``p0``) with the rounded unit normal, the
-    plain form carries ``eps |q - p|``: a hit 10^6 along a wall from its start
-    would be off by 10^-10.  Where it cancels, a segment's distance is formed
-    again as ``-side ((q - p0) x (p1 - p0)) / L`` (``side`` +1 for a table on
-    the left) with both differences and the cross product exact to ``eps^2``
-    (:mod:`exact`): the line through the segment's
-    own float end points, to a few ulps of the distance wherever ``q`` lies
-    along it.  A line's normal is the float unit pair the scene stores, so
-    :func:`exact.shifted_dot` suffices.  Ordinary points (no cancellation)
-    take the plain form.  The hit search over all elements uses the plain form
-    only; :func:`events.exact_line_hit` redoes the hit on the element hit.
+    The plain form carries ``eps |q - p|`` (off by 1e-10 at 10^6 along a wall); where it cancels
+    (:data:`LINE_GATE`), :func:`line_value_exact`.  The hit search over all elements uses the plain
+    form only; :func:`events.exact_line_hit` redoes the hit on the element hit.
     """
     a = (x - p[0]) * p[2]
     b = (y - p[1]) * p[3]
@@ -65,7 +54,12 @@ def line_value(kind, p, x, y):
 
 @jit
 def line_value_exact(kind, p, x, y):
-    """:func:`line_value` to a few ulps of itself, always (a call, so the common path stays small)."""
+    """:func:`line_value` to a few ulps of itself, always (a call, so the common path stays small).
+
+    A segment: ``-side ((q - p0) x (p1 - p0)) / L`` (``side`` +1 for a table on the left), both
+    differences and the cross product exact to ``eps^2`` (:mod:`exact`), from the segment's own float
+    end points.  A line: its stored float unit normal, by :func:`exact.shifted_dot`.
+    """
     if kind == SEGMENT:
         fx, fxl = two_sum(x, -p[0])
         fy, fyl = two_sum(y, -p[1])
@@ -98,9 +92,8 @@ def nearest_cell(B, x, y):
 def copy_shift(A, o1, o2, shifted):
     """:func:`lattice_shift` of an element copy, or exact zeros without work when nothing is ``shifted``.
 
-    A plain scene's copies all have zero offsets (and ``A = 0``), so its
-    shifts are zeros: skipping them gives the same values and spares each
-    element of each collision two conversions and four products.
+    A plain scene's copies have zero offsets (``A = 0``): skipping the zeros gives the same values and
+    spares each element of each collision two conversions and four products.
     """
     if shifted:
         return lattice_shift(A, o1, o2)
@@ -173,12 +166,10 @@ def extent_coordinate(kind, p, x, y):
 def extent_position(kind, p, x, y, tol):
     """Where ``(x, y)`` lies in the element's extent: -1 outside, 0 interior, 1 at the start, 2 at the end.
 
-    ``tol`` is an absolute length.  Within ``tol`` of an end counts as at that
-    end; beyond an end, the extent reaches ``tol`` times the end's factor
-    (columns ``END_START``, ``END_END``): the full band at a convex junction,
-    where it keeps a flight aimed at the vertex from passing between two
-    pieces, and a rounding-sized band at reflex junctions and free ends,
-    where the exact dynamics has no hit.
+    ``tol`` is an absolute length.  Within ``tol`` of an end is at that end; beyond an end, the extent
+    reaches ``tol`` times the end's factor (columns ``END_START``, ``END_END``): the full band at a convex
+    junction, a rounding-sized one at reflex junctions and free ends (docs/algorithm.md, *4. Corner
+    rule and element ends*).
     """
     if kind == SEGMENT:
         u = (x - p[0]) * p[4] + (y - p[1]) * p[5]
