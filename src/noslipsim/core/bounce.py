@@ -3,6 +3,7 @@
 Each step is a kernel inlined into the event loop (:func:`loop.orbit_kernel`); the ones that
 depend on a variant's compile-time constants are closures of small factories (numba prunes their
 branches on those constants before typing, so a variant compiles none of what it cannot reach).
+docs/algorithm.md, *4. Corner rule and element ends* and *5. Grazing guard*.
 """
 import functools
 import math
@@ -116,7 +117,7 @@ def local_acceleration(THERMO_ANY, THERMO_ALWAYS, MAG_ANY, MAG_ALWAYS):
 
 @functools.cache
 def corner_pass(law_of, acceleration):
-    """The corner rule after a hit on copy ``(cur_e, cur_o1, cur_o2)`` (module :mod:`loop`'s docstring).
+    """The corner rule after a hit on copy ``(cur_e, cur_o1, cur_o2)`` (docs/algorithm.md, *4. Corner rule*).
 
     ``corners(table, ..., cell, ..., current, ..., flight, law_e, nx, ny)`` (``table = (kinds, params, copies,
     A, lattice, jstart, jpts)``, ``cell = (m1, m2, ox, oy)``, ``current = (cur_e, cur_o1, cur_o2)``,

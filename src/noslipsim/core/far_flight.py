@@ -1,16 +1,15 @@
 """Free flight seen from a cell far from its start (``cells.FAR_CELLS`` or more): the cell search's flight there.
 
-``F`` is :mod:`free_flight`'s, and as there a straight flight (:data:`straight`) and one under the
-force (:data:`falling`) are two flights, the force a constant of each.  Formed plainly, the start
-relative to a far copy is a difference of two lengths as long as the flight and carries ``eps`` times
-it.  Here the flight's point where the window opens is formed to twice the working precision
-(:func:`flight_point_dd`) and the copy's translation exactly (:func:`exact.lattice_shift_dd`), so
-*which* copy is hit, and when, is decided to the cell's precision.  The velocity there is ``v + a lo``
+``F`` is :mod:`free_flight`'s, and :data:`straight`, :data:`falling` are two flights as there.  Formed
+plainly, the start relative to a far copy, a difference of two lengths as long as the flight, carries
+``eps`` times it.  Here the flight's point where the window opens is formed to twice the working
+precision (:func:`flight_point_dd`) and the copy's translation exactly (:func:`exact.lattice_shift_dd`),
+so *which* copy is hit, and when, is decided to the cell's precision; the velocity there is ``v + a lo``
 (a few ulps of the speed).  The copy just hit is solved from the collision, plainly, as in
-:mod:`free_flight`.
+:mod:`free_flight`.  docs/algorithm.md, *Lattices*.
 
-The window ``G = (xh, xl, yh, yl, vx, vy, ax, ay, x, y, vx0, vy0)``: the point as two
-floats each, the velocity and acceleration there, and the collision's state (for the copy just hit).
+The window ``G = (xh, xl, yh, yl, vx, vy, ax, ay, x, y, vx0, vy0)``: the point as two floats each, the
+velocity and acceleration there, and the collision's state (for the copy just hit).
 """
 import functools
 import math

@@ -7,10 +7,10 @@ Under a force a copy whose box misses the box of the window's arc is skipped (:f
 a straight flight skips the filter, whose test costs about as much as its exit.  Nothing here searches,
 so nothing gives up.
 
-Two flights: :data:`straight` (no force) and :data:`falling` (under the force).  Whether there is a
-force is a constant of each, not a member of ``F``: numba prunes a branch on a closure's constant
-before typing, never one on a member of a tuple, so with the flag in ``F`` every scene without force
-typed and compiled the cubic and quartic solvers it never runs (the pentagon's compile 25 % longer).
+Two flights, :data:`straight` (no force) and :data:`falling` (under the force): the force is a constant
+of each, not a member of ``F``, as numba prunes a branch on a closure's constant before typing, never one
+on a tuple's member (docs/algorithm.md, *One event search for every flight*; the compile time it saves:
+benchmarks/RESULTS.md, "Where the compile time went").
 """
 import functools
 import math
