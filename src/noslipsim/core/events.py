@@ -1,10 +1,8 @@
 """Event times: when and where a flight next leaves the table.
 
-The flight ``q(t) = q + v t + a t^2/2`` hits element ``i`` at the smallest
-exit root of its crossing polynomial in ``(0, hi]`` whose point lies in the
-element's extent.  For the element just hit the exact root ``t = 0`` is
-removed analytically (the polynomial is divided by ``t``), so the same element
-can be hit again after any positive time (a ball bouncing on a peg).
+The flight ``q(t) = q + v t + a t^2/2`` hits element ``i`` at the smallest exit root of its crossing
+polynomial in ``(0, hi]`` whose point lies in the element's extent.  For the element just hit the exact
+root ``t = 0`` is divided out, so it can be hit again after any positive time (a ball bouncing on a peg).
 
 Degrees: lines 2 with force, 1 without; circles 4 with force, 2 without;
 each one less after deflation.  A scene without force never evaluates a cubic

@@ -212,12 +212,10 @@ def _add_exit_at_end(c1, c2, c3, c4, a, fa, before, hi, e1, e2):
 def _exits_on_pieces(c0, c1, c2, c3, c4, k1, k2, k3, hi):
     """Up to two exit roots of ``p`` in ``(0, hi]`` given its sorted critical points ``k1..k3`` (inf padded).
 
-    ``p`` is monotone between consecutive break points.  A piece with
-    ``p(a) > 0 > p(b)`` holds one exit, polished there.  When ``p`` rounds to
-    exactly zero at a break point, the sign before the zero (the last nonzero
-    value) decides: ``+, 0, -`` is an exit at that point (an osculating,
-    triple-root crossing), ``+, 0, +`` a tangency.  An exit exactly at ``hi``
-    counts when ``p`` decreases there.
+    ``p`` is monotone between break points; a piece with ``p(a) > 0 > p(b)`` holds one exit.  Where
+    ``p`` rounds to exactly zero at a break point, the last nonzero value before it decides: ``+, 0, -``
+    is an exit there (an osculating, triple-root crossing), ``+, 0, +`` a tangency.  An exit exactly at
+    ``hi`` counts when ``p`` decreases there.
     """
     e1 = INF
     e2 = INF
