@@ -223,13 +223,33 @@ def _magnetic_level(F, f0):
     return magnetic_flight.line_exit(F, f0, 0.0, 1.0)
 
 
-def _free_step(straight, falling, FORCE, FORCE_RT):
-    """Free flight's step: ``falling`` under the force (``FORCE``, or ``has_force`` when ``FORCE_RT``), else
-    ``straight``.  The force is a constant of each (:mod:`free_flight`), so the choice is made here, on constants
-    numba prunes, never by a flag the flight would carry."""
+@functools.cache
+def choose_flight(switches, LATTICE_ALWAYS, LATTICE_RT, WALLS, OPEN_ENDS):
+    """``fly(thermo, mag, ...)``: the one place a flight is chosen, for a variant's constants.
+
+    ``switches``: the variant's :class:`variant.FlightSwitches`; ``thermo``, ``mag``, ``has_force``: the orbit's
+    run-time choice (:func:`flight_setup`), read only where a switch leaves it open.  Each branch opens with a
+    constant captured here, so numba prunes the flights a variant cannot fly before typing them (a switch
+    passed in a tuple or a run-time variable would be typed and compiled on both sides).  The force is a constant
+    of each free flight (:mod:`free_flight`), so straight and falling are two steps.
+    """
+    FORCE_RT, FORCE, THERMO_ANY, THERMO_ALWAYS, _, MAG_ANY, MAG_ALWAYS, _ = switches
+    straight, falling = (flight_step(_free_begin, _free_level, free_search(LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS, f),
+                                     free_flight.free_flight(f).state_at, free_land(WALLS, f)) for f in (False, True))
+    thermostatted = flight_step(_thermo_begin, _thermo_level, closed_form_search(thermo_flight, False, OPEN_ENDS),
+                                thermo_flight.state_at, closed_form_land(thermo_flight, WALLS))
+    magnetic = flight_step(_magnetic_begin, _magnetic_level, closed_form_search(magnetic_flight, True, OPEN_ENDS),
+                           magnetic_flight.state_at, closed_form_land(magnetic_flight, WALLS))
+
     @jit(inline="always")
-    def fly(kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W, pin, cur_e, cur_o1,
-            cur_o2, remaining, stop_below, oy, top, extent_tol):
+    def fly(thermo, mag, kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W, pin, cur_e,
+            cur_o1, cur_o2, remaining, stop_below, oy, top, extent_tol):
+        if THERMO_ALWAYS or (THERMO_ANY and thermo):
+            return thermostatted(kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W, pin,
+                                 cur_e, cur_o1, cur_o2, remaining, stop_below, oy, top, extent_tol)
+        if MAG_ALWAYS or (MAG_ANY and mag):
+            return magnetic(kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W, pin, cur_e,
+                            cur_o1, cur_o2, remaining, stop_below, oy, top, extent_tol)
         if FORCE or (FORCE_RT and has_force):
             return falling(kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W, pin, cur_e,
                            cur_o1, cur_o2, remaining, stop_below, oy, top, extent_tol)
@@ -237,18 +257,6 @@ def _free_step(straight, falling, FORCE, FORCE_RT):
                         cur_o1, cur_o2, remaining, stop_below, oy, top, extent_tol)
 
     return fly
-
-
-@functools.cache
-def flight_steps(LATTICE_ALWAYS, LATTICE_RT, WALLS, OPEN_ENDS, FORCE, FORCE_RT):
-    """``(free, thermostat, magnetic)``: the flight steps for a variant's compile-time constants."""
-    straight, falling = (flight_step(_free_begin, _free_level, free_search(LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS, f),
-                                     free_flight.free_flight(f).state_at, free_land(WALLS, f)) for f in (False, True))
-    return (_free_step(straight, falling, FORCE, FORCE_RT),
-            flight_step(_thermo_begin, _thermo_level, closed_form_search(thermo_flight, False, OPEN_ENDS),
-                        thermo_flight.state_at, closed_form_land(thermo_flight, WALLS)),
-            flight_step(_magnetic_begin, _magnetic_level, closed_form_search(magnetic_flight, True, OPEN_ENDS),
-                        magnetic_flight.state_at, closed_form_land(magnetic_flight, WALLS)))
 
 
 @functools.cache

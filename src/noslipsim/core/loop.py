@@ -26,7 +26,7 @@ from .bounce import corner_pass, element_law, grazing, local_acceleration, rebas
 from .cells import far_move
 from .disks import disk_lattice_kernel
 from .energy import SETTLE_EVERY, settle_mode, state_energy
-from .fly import HIT, flight_setup, flight_steps
+from .fly import HIT, choose_flight, flight_setup
 from .geometry import lattice_shift, nearest_cell
 from .jit import SOURCE_STAMP, jit
 from .laws import collide
@@ -52,65 +52,19 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
                  open_ends=None, settle=None):
     """The event loop compiled for one kind of scene: a scene pays only for what it needs.
 
-    The arguments are the slots of a :class:`variant.Variant`
-    (``orbit_kernel(*variant)``).  Each is a compile-time constant
-    (``True``/``False``, a record mode, a flight), so the compiler drops the
-    code a scene cannot reach: the cubic and quartic exits without a force,
-    the spin update for specular laws, the cell walk for plain scenes, the
-    recorder when nothing is recorded.  A slot left ``None`` is read from the
-    arguments at run time; ``orbit_kernel()`` is the general path
-    (:data:`run_orbit`).  A combination no scene has raises ``ValueError``
-    (:func:`variant.normalise`).  Every variant makes the same
-    floating-point operations on the scenes it serves, so results are
-    identical to the general path's, bit for bit.
+    The arguments are the slots of a :class:`variant.Variant` (``orbit_kernel(*variant)``; each documented
+    there).  Each is a compile-time constant, so numba drops the code a scene cannot reach: the cubic and
+    quartic exits without a force, the spin update for specular laws, the cell walk for plain scenes, the
+    recorder when nothing is recorded, the long-wall check (``walls=False``), the open-end rule
+    (``open_ends=False``), the flights a variant cannot fly (:func:`fly.choose_flight`), per-element laws
+    (``mixed=False``), the settle form not chosen (:func:`bounce.settle_step`).  A slot left ``None`` is
+    read from the arguments at run time; ``orbit_kernel()`` is the general path (:data:`run_orbit`).  A
+    combination no scene has raises ``ValueError`` (:func:`variant.normalise`).
 
-    ``disks=True`` (disjoint disks on a lattice, no force: the Sinai torus,
-    the Lorentz gas with one or several disks per cell) selects another loop,
-    :func:`disks.disk_lattice_kernel`,
-    with the same arguments and outputs; it skips what such a scene cannot
-    need and agrees with the general path to rounding, not bit for bit.
-
-    ``open_ends=False`` (every segment and arc meets its neighbours at convex
-    junctions: no reflex vertex, no free end; ``KernelTable.open_ends``)
-    compiles the cell search without the open-end rule
-    (:func:`search.cell_search`), which such a table never needs.
-
-    ``settle`` (:mod:`variant`): ``WHOLE`` compiles the energy settle that
-    scales the whole state (:func:`energy.settle_whole`) and nothing else,
-    ``TARGETED`` the part chosen per orbit (:func:`energy.settle_mode`,
-    :func:`energy.settle_velocity`); ``None`` applies the table's rule
-    (:func:`energy.targeted_settle`) at run time, as ``KernelTable.settle``
-    does before compiling.  The step that settles (:func:`bounce.settle_step`)
-    tests these constants in its own branches, which numba prunes.
-
-    ``walls=False`` (no element flagged ``layout.LONG_WALL``: every polygon,
-    box or disk table whose walls are short against its smallest feature)
-    compiles the loop without the long-wall check (:func:`events.exact_line_hit`);
-    ``True`` or ``None`` test each line or segment hit for the flag.  The
-    check's code alone, never run, cost such scenes 2 to 20 % (the Galton
-    board the most; ``benchmarks/RESULTS.md``).
-
-    ``flight`` (:mod:`variant`): ``STRAIGHT`` flies straight lines (no
-    force), ``FORCE`` free fall under the force ``ax, ay``, ``THERMOSTAT``
-    the force with the Gaussian isokinetic thermostat (:mod:`thermostat`,
-    :mod:`thermo_flight`), ``MAGNETIC`` turns the velocity at the cyclotron
-    frequency ``W`` of a field normal to the table (:mod:`magnetic_flight`;
-    never with a force); ``None`` reads ``ax, ay``, the ``thermostat`` and
-    ``W`` arguments.  A variant compiles no code of a flight it cannot fly:
-    each of their branches opens with a compile-time constant
-    (:func:`variant.flight_switches`: ``THERMO_ANY``, ``MAG_ANY``, ...;
-    the loop's choice of flight step), which numba prunes before typing (and a
-    fixed flight prunes the free fall likewise).  Every flight searches a
-    cell with :func:`search.cell_search`.
-
-    ``mixed=True`` (a table whose elements do not all share one law) gives each
-    collision, the corner rule's included, the law of the element hit,
-    ``params[e, layout.ELEMENT_LAW]``; ``None`` does so when the ``law``
-    argument is ``layout.PER_ELEMENT``; ``False`` compiles none of it (its
-    branches open with the constant ``MIXED_ANY``), so a table of one law runs
-    the code it ran before per-element laws existed, bit for bit.  A mixed
-    table has a no-slip element, so ``mixed=True`` needs the spin
-    (``spin=False`` is the specular law everywhere, whatever the table says).
+    Every variant makes the same floating-point operations on the scenes it serves, so results are
+    identical to the general path's, bit for bit.  ``disks=True`` selects another loop,
+    :func:`disks.disk_lattice_kernel`, with the same arguments and outputs, which agrees with the general
+    path to rounding only.  docs/algorithm.md, "Paying only for what a scene needs", has the measured gains.
     """
     variant = normalise(spin, lattice, mode, disks, walls, flight, mixed, open_ends, settle)  # raises on impossible
     if variant.disks:
@@ -118,7 +72,8 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
     VARIANT = variant_code(variant)  # reported with results
     spin, lattice, mode, disks, walls, flight, mixed, open_ends, settle = variant
     # the flights: each branch of one opens with one of these constants (never a thermostat or field for nothing)
-    FORCE_RT, FORCE, THERMO_ANY, THERMO_ALWAYS, THERMO_RT, MAG_ANY, MAG_ALWAYS, FAR_MOVE = flight_switches(variant)
+    switches = flight_switches(variant)
+    FORCE_RT, FORCE, THERMO_ANY, THERMO_ALWAYS, THERMO_RT, MAG_ANY, MAG_ALWAYS, FAR_MOVE = switches
     SPIN_RT = spin is None
     SPIN = bool(spin)
     LATTICE_RT = lattice is None
@@ -135,10 +90,7 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
     LAW_KEPT = SPIN_RT or (SPIN and MIXED_ANY)
     # the steps (fly.py, bounce.py), each compiled with the constants it reads
     setup = flight_setup(THERMO_ANY, THERMO_RT, MAG_ANY, MAG_ALWAYS)
-    # the flight steps: each branch of the choice below opens with a compile-time constant, so a variant
-    # compiles only the flights it may fly (numba prunes a branch on a captured constant before typing; never
-    # pass such a switch in a tuple or through a run-time variable: both sides are then typed and compiled)
-    fly_free, fly_thermo, fly_magnetic = flight_steps(LATTICE_ALWAYS, LATTICE_RT, WALLS, OPEN_ENDS, FORCE, FORCE_RT)
+    fly = choose_flight(switches, LATTICE_ALWAYS, LATTICE_RT, WALLS, OPEN_ENDS)  # the one place a flight is chosen
     law_of = element_law(MIXED_ANY, MIXED_ALWAYS)
     acceleration = local_acceleration(THERMO_ANY, THERMO_ALWAYS, MAG_ANY, MAG_ALWAYS)
     corners = corner_pass(law_of, acceleration)
@@ -246,15 +198,8 @@ def orbit_kernel(spin=None, lattice=None, mode=None, disks=None, walls=None, fli
                 remaining = max_time - t
                 top = ceiling - oy
                 extent_tol = EXTENT_TOL * length
-                if THERMO_ALWAYS or (THERMO_ANY and thermo):
-                    flown = fly_thermo(kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W,
-                                       pin, cur_e, cur_o1, cur_o2, remaining, stop_below, oy, top, extent_tol)
-                elif MAG_ALWAYS or (MAG_ANY and mag):
-                    flown = fly_magnetic(kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W,
-                                         pin, cur_e, cur_o1, cur_o2, remaining, stop_below, oy, top, extent_tol)
-                else:
-                    flown = fly_free(kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W,
-                                     pin, cur_e, cur_o1, cur_o2, remaining, stop_below, oy, top, extent_tol)
+                flown = fly(thermo, mag, kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W,
+                            pin, cur_e, cur_o1, cur_o2, remaining, stop_below, oy, top, extent_tol)
                 stop, t_hit, e, o1, o2, px, py, vx_in, vy_in, nx, ny, sx, sy, far = flown
                 if stop != HIT:
                     x, y, vx, vy = px, py, vx_in, vy_in
