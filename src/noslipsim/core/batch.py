@@ -1,13 +1,8 @@
-"""Many orbits in one compiled call.
+"""Many orbits in one compiled call: ``batch_kernel(flags)`` runs them one after another.
 
-``batch_kernel(flags)`` loops over orbits one after another, around the orbit
-kernel variant ``orbit_kernel(*flags)``.  Parallel runs call it on several
-threads at once, one block of orbits each (it releases the GIL): numba's
-``prange`` is not used, because the function it generates is named from a
-memory address and a per-process counter, which no cache can identify
-stably (core/jit.py), and numba's default threading layer must not be entered
-from several threads at once.  Orbits are independent and deterministic, so
-any split into blocks gives identical results.
+Parallel runs call it on several threads at once, one block of orbits each (it releases the GIL), not
+numba's ``prange`` (docs/algorithm.md, "One kernel call, and a compile cache ..."); orbits are
+independent and deterministic, so any split into blocks gives identical results.
 """
 import functools
 
