@@ -19,14 +19,11 @@ N_FINAL = 13
 def batch_kernel(flags=GENERAL):
     """The batch loop around the orbit kernel variant ``orbit_kernel(*flags)`` (``flags``: a :class:`variant.Variant`).
 
-    Arguments: ``starts[i] = (x, y, vx, vy, w)`` relative to the start cell;
-    ``start_elements[i]`` is ``-1`` or the element the orbit starts on;
-    ``stop_below[i]`` the level (relative to the start cell, ``-inf`` for
-    none); ``rec[i]`` receives orbit ``i``'s records; ``final[i]`` its summary
-    (columns ``F_*``; ``F_VARIANT`` is what the orbit kernel that ran reports,
-    :func:`variant.report`); ``ceilings[i]`` the top of a bounded lattice
-    relative to the start cell (``inf`` for none); ``W`` the magnetic field's
-    cyclotron frequency (0 for none).  Other arguments as in
+    Arguments: ``starts[i] = (x, y, vx, vy, w)`` relative to the start cell; ``start_elements[i]`` is ``-1`` or the
+    element the orbit starts on; ``stop_below[i]`` the level (relative to the start cell, ``-inf`` for none); ``rec[i]``
+    receives orbit ``i``'s records; ``final[i]`` its summary (columns ``F_*``; ``F_VARIANT`` is what the orbit kernel
+    that ran reports, :func:`variant.report`); ``ceilings[i]`` the top of a bounded lattice relative to the start cell
+    (``inf`` for none); ``W`` the magnetic field's cyclotron frequency (0 for none).  Other arguments as in
     :func:`loop.run_orbit`.
     """
     orbit = orbit_kernel(*flags)

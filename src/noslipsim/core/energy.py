@@ -43,9 +43,8 @@ SETTLE_PAIR = 2
 def settle_mode(potential, mixes, thermo):
     """Where an orbit's energy corrections go: ``SETTLE_FORCE``, ``SETTLE_PAIR`` or ``SETTLE_ALL``.
 
-    ``potential``: a force without thermostat (the energy has a potential
-    part); ``mixes``: the law exchanges energy with the spin (no-slip,
-    ``gamma > 0``); ``thermo``: the isokinetic thermostat drives the flights.
+    ``potential``: a force without thermostat (the energy has a potential part); ``mixes``: the law exchanges energy
+    with the spin (no-slip, ``gamma > 0``); ``thermo``: the isokinetic thermostat drives the flights.
     """
     if potential:
         return SETTLE_FORCE

@@ -78,9 +78,8 @@ def two_prod(a, b):
 def lattice_shift_dd(A, n1, n2):
     """``n1 a1 + n2 a2`` (columns of ``A``) as ``(xh, xl, yh, yl)``, ``x = xh + xl`` to ``eps^2 |x|``.
 
-    The products of the integer indices with the lattice vectors are exact
-    (:func:`two_prod`), so the translation is that of the float lattice the
-    scene defines, not one rounded to ``eps`` times its length.
+    The products of the integer indices with the lattice vectors are exact (:func:`two_prod`), so the translation is
+    that of the float lattice the scene defines, not one rounded to ``eps`` times its length.
     """
     f1 = float(n1)
     f2 = float(n2)
@@ -104,9 +103,8 @@ def offset_dd(x, sh, sl):
 def cross_dd(dxh, dxl, dyh, dyl, vx, vy):
     """``dx vy - dy vx`` for ``dx = dxh + dxl``, ``dy = dyh + dyl``, with an error of a few ulps of the result.
 
-    The two large products are formed exactly and subtracted with
-    :func:`two_sum`; the remaining terms are small (rounding errors and the
-    low parts), so their own rounding is ``eps^2`` times the products.
+    The two large products are formed exactly and subtracted with :func:`two_sum`; the remaining terms are small
+    (rounding errors and the low parts), so their own rounding is ``eps^2`` times the products.
     """
     a, ea = two_prod(dxh, vy)
     b, eb = two_prod(dyh, vx)

@@ -157,9 +157,8 @@ def _line_root_from_zero(fl, f0, n1, n2, nv, a, b, fb, derb):
 def line_exit(fl, f0, nx, ny, lo, hi, deflate):
     """First exit root in ``(lo, hi]`` of ``f(t) = f0 + n . (q(t) - q(0))`` along a thermostatted flight, or inf.
 
-    ``f`` is positive on the table side (``n`` need not be unit).  ``deflate``
-    (with ``lo = 0``): ``f0 = 0`` is the root ``t = 0`` of the element just
-    hit, removed; the sign just after it is that of ``f'(0)`` (or ``f''(0)``).
+    ``f`` is positive on the table side (``n`` need not be unit).  ``deflate`` (with ``lo = 0``): ``f0 = 0`` is the root
+    ``t = 0`` of the element just hit, removed; the sign just after it is that of ``f'(0)`` (or ``f''(0)``).
     """
     n1, n2 = _field_parts(fl, nx, ny)
     nv = nx * fl[2] + ny * fl[3]
@@ -316,9 +315,8 @@ def _step_bounds(fl, r, E, dn, lam, a, hi, d0):
 def _tangency(fl, E, sig, dx, dy, vx, vy, G, G1, a, tlo, span, noise):
     """``G`` zero to rounding and no sure crossing: ``(root, tlo)``, decided by ``G''``.
 
-    At the circle and curving out: it leaves here.  A dip deeper than the
-    rounding: the first crossing.  Otherwise a tangency (no collision): the
-    step ``tlo`` is lengthened past the minimum of ``G``.
+    At the circle and curving out: it leaves here.  A dip deeper than the rounding: the first crossing.  Otherwise a
+    tangency (no collision): the step ``tlo`` is lengthened past the minimum of ``G``.
     """
     root = INF
     aex, aey = drag(vx, vy, E * fl[12], E * fl[13])
@@ -338,9 +336,8 @@ def _tangency(fl, E, sig, dx, dy, vx, vy, G, G1, a, tlo, span, noise):
 def _table_side_step(fl, E, cx, cy, sig, r, dx, dy, vx, vy, lam, G, G1, a, hi, span, Q, noise):
     """On the table side at ``a``: ``(step, root)``, a crossing ``root`` (inf if none) or else a safe ``step``.
 
-    The lower quadratic's first root is a step that cannot pass a crossing;
-    once the upper one's is in the window too, the bracket holds the exit.
-    ``step`` inf: the flight recedes for good, no exit.
+    The lower quadratic's first root is a step that cannot pass a crossing; once the upper one's is in the window too,
+    the bracket holds the exit.  ``step`` inf: the flight recedes for good, no exit.
     """
     c = fl[4]
     tlo = _first_root(G, G1, sig * c * c - Q)
@@ -392,9 +389,8 @@ def _crossing_verdict(kind, p, fl, sx, sy, lo, hi, extent_tol, root):
 def round_hit(kind, p, fl, sx, sy, lo, hi, deflate, extent_tol, E):
     """First exit root in ``(lo, hi]`` of a circle or arc copy (shifted by ``(sx, sy)``) within its extent, or inf.
 
-    Conservative steps between the quadratic bounds of the module docstring;
-    ``deflate`` (with ``lo = 0``): the copy was just hit at ``t = 0``.  After
-    :data:`MAX_STEPS` steps without a decision: :data:`GAVE_UP` (negative).
+    Conservative steps between the quadratic bounds of the module docstring; ``deflate`` (with ``lo = 0``): the copy was
+    just hit at ``t = 0``.  After :data:`MAX_STEPS` steps without a decision: :data:`GAVE_UP` (negative).
     """
     cx = p[0] + sx
     cy = p[1] + sy
