@@ -14,9 +14,9 @@ a circle of radius ``c/|W|`` about ``x_0 + J v_0 / W``, run counter-clockwise
 for ``W > 0``.  The half-angle form, and the series below ``|theta| = 1e-8``,
 keep ``W -> 0`` (the straight flight) free of cancellation and of a division
 by a tiny ``W``.  A line's signed distance or a circle's
-``sigma (|x - p|^2 - r^2)`` along the path is ``g = g_0 + a S + b Q``; in the
-tangent half-angle ``zeta = 2 tan(theta/2) / W`` (``= t`` for ``W = 0``) it is
-the quadratic
+``sigma (|x - p|^2 - r^2)`` along the path is ``g = g_0 + a S + b Q``
+(``S = sin(theta)/W``, ``Q = (1 - cos(theta))/W``); in the tangent half-angle
+``zeta = 2 tan(theta/2) / W`` (``= t`` for ``W = 0``) it is the quadratic
 
 .. math::
 
