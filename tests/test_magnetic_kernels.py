@@ -6,6 +6,7 @@ grazing), extents of segments and arcs, W -> 0 against the straight flight, huge
 import math
 
 import mpmath
+import numba
 import numpy as np
 import pytest
 
@@ -35,6 +36,48 @@ def ref_circle_exit(x, y, vx, vy, W, cx, cy, r, sigma, deflate=False):
     p = path(x, y, vx, vy, W)
     roots = p.exits(*p.circle_terms(F(cx), F(cy), F(r), F(sigma), deflate), deflate, FLOOR)
     return float(roots[0]) if roots else math.inf
+
+
+# ---------------------------------------------------------------------------- exits through whole elements
+# Built from the core's exits as the tests need them (the engine's cell search has its own,
+# magnetic_flight.element_exit); compiled so that whole orbits run at kernel speed.
+@numba.njit
+def segment_exit(x, y, vx, vy, W, px, py, nx, ny, ux, uy, length, tol, deflate):
+    """``mg.line_exit`` within the segment from ``p`` along the unit ``u`` (``0 <= s <= length`` within ``tol``)."""
+    t = mg.line_exit(x, y, vx, vy, W, px, py, nx, ny, deflate)
+    if t == math.inf:
+        return math.inf
+    hx, hy, _, _ = mg.advance(x, y, vx, vy, W, t)
+    s = (hx - px) * ux + (hy - py) * uy
+    return t if -tol <= s <= length + tol else math.inf
+
+
+@numba.njit
+def arc_exit(x, y, vx, vy, W, cx, cy, r, sigma, theta0, span, tol, deflate):
+    """``mg.circle_exit`` within the arc counter-clockwise from ``theta0`` over ``span`` (ends within ``tol``)."""
+    t = mg.circle_exit(x, y, vx, vy, W, cx, cy, r, sigma, deflate)
+    if t == math.inf:
+        return math.inf
+    hx, hy, _, _ = mg.advance(x, y, vx, vy, W, t)
+    ang = (math.atan2(hy - cy, hx - cx) - theta0) % (2.0 * math.pi)
+    slack = tol / r
+    if ang <= span + slack or ang >= 2.0 * math.pi - slack:
+        return t
+    return math.inf
+
+
+@numba.njit
+def line_meets(x, y, vx, vy, W, px, py, nx, ny):
+    """The cyclotron circle (``W = 0``: the flight's whole line) touches or crosses the line (certified as grazing)."""
+    c0, c1, c2, m0, m1, m2 = mg.line_coefficients(x, y, vx, vy, W, px, py, nx, ny, False)
+    return mg.can_meet(c0, c1, c2, m0, m1, m2)
+
+
+@numba.njit
+def circle_meets(x, y, vx, vy, W, cx, cy, r):
+    """The cyclotron circle (``W = 0``: the flight's whole line) touches or crosses the circle."""
+    c0, c1, c2, m0, m1, m2 = mg.circle_coefficients(x, y, vx, vy, W, cx, cy, r, 1.0, False)
+    return mg.can_meet(c0, c1, c2, m0, m1, m2)
 
 
 def random_flight(rng):
@@ -107,7 +150,7 @@ def test_line_exits_against_the_twin():
         px, py = x + nx * rng.uniform(0.01, 2), y + ny * rng.uniform(0.01, 2)  # the start on the table side
         pairs.append((mg.line_exit(x, y, vx, vy, W, px, py, nx, ny, False),
                       ref_line_exit(x, y, vx, vy, W, px, py, nx, ny),
-                      mg.line_meets(x, y, vx, vy, W, px, py, nx, ny)))
+                      line_meets(x, y, vx, vy, W, px, py, nx, ny)))
     assert agreeing_hits(pairs) > 100
 
 
@@ -125,7 +168,7 @@ def test_circle_exits_against_the_twin():
         cx, cy = x + dist * math.cos(ang), y + dist * math.sin(ang)
         pairs.append((mg.circle_exit(x, y, vx, vy, W, cx, cy, r, sigma, False),
                       ref_circle_exit(x, y, vx, vy, W, cx, cy, r, sigma),
-                      mg.circle_meets(x, y, vx, vy, W, cx, cy, r)))
+                      circle_meets(x, y, vx, vy, W, cx, cy, r)))
     assert agreeing_hits(pairs) > 100
 
 
@@ -178,10 +221,10 @@ def test_grazing_is_certified():
     tangent = (0.0, 2.0, 0.0, 1.0)  # point, outward normal: the table below y = 2
     assert mg.line_exit(x, y, vx, vy, W, *tangent, False) == math.inf
     assert ref_line_exit(x, y, vx, vy, W, *tangent) == math.inf
-    assert mg.line_meets(x, y, vx, vy, W, *tangent)
+    assert line_meets(x, y, vx, vy, W, *tangent)
     for shift, hit in ((1e-9, True), (-1e-9, False), (1e-3, True)):
         line = (0.0, 2.0 - shift, 0.0, 1.0)
-        assert mg.line_meets(x, y, vx, vy, W, *line) == hit
+        assert line_meets(x, y, vx, vy, W, *line) == hit
         got = mg.line_exit(x, y, vx, vy, W, *line, False)
         want = ref_line_exit(x, y, vx, vy, W, *line)
         assert (got < math.inf) == hit == (want < math.inf)
@@ -189,8 +232,8 @@ def test_grazing_is_certified():
             assert got == pytest.approx(want, rel=1e-7)  # sqrt-conditioned near a tangency
     # a circle tangent from outside: the circle about (0, 3) of radius 1 touches the cyclotron circle at (0, 2)
     assert mg.circle_exit(x, y, vx, vy, W, 0.0, 3.0, 1.0, 1.0, False) == math.inf
-    assert mg.circle_meets(x, y, vx, vy, W, 0.0, 3.0, 1.0)
-    assert not mg.circle_meets(x, y, vx, vy, W, 0.0, 3.0 + 1e-9, 1.0)
+    assert circle_meets(x, y, vx, vy, W, 0.0, 3.0, 1.0)
+    assert not circle_meets(x, y, vx, vy, W, 0.0, 3.0 + 1e-9, 1.0)
 
 
 @pytest.mark.parametrize("W", [1e-8, -1e-8, 1e-13, 1e-200])
@@ -212,7 +255,7 @@ def test_weak_field_exits_equal_the_straight_ones(W):
 def test_huge_field_circles_in_place():
     """W = 1e8: a cyclotron circle of radius 1e-8 meets only what lies within 2e-8 of its start."""
     x, y, vx, vy, W = 0.0, 0.0, 1.0, 0.0, 1e8
-    assert not mg.line_meets(x, y, vx, vy, W, 0.0, 1e-6, 0.0, 1.0)
+    assert not line_meets(x, y, vx, vy, W, 0.0, 1e-6, 0.0, 1.0)
     assert mg.line_exit(x, y, vx, vy, W, 0.0, 1e-6, 0.0, 1.0, False) == math.inf
     line = (0.0, 1.5e-8, 0.0, 1.0)
     got = mg.line_exit(x, y, vx, vy, W, *line, False)
@@ -239,15 +282,15 @@ def test_segment_and_arc_extents():
     assert hx == pytest.approx(math.sqrt(0.75), rel=1e-14)  # counter-clockwise: up the right side first
     seg = dict(px=0.0, py=1.5, nx=0.0, ny=1.0, ux=1.0, uy=0.0)
     for length, hit in ((1.0, True), (0.8, False)):
-        got = mg.segment_exit(x, y, vx, vy, W, *seg.values(), length, 1e-12, False)
+        got = segment_exit(x, y, vx, vy, W, *seg.values(), length, 1e-12, False)
         assert (got == t) if hit else got == math.inf
     # an arc of the circle |q - (0, 3)| = 2 (a scatterer): the orbit's exit point against it
     t = mg.circle_exit(x, y, vx, vy, W, 0.0, 3.0, 2.0, 1.0, False)
     hx, hy, _, _ = mg.advance(x, y, vx, vy, W, t)
     ang = math.atan2(hy - 3.0, hx)
-    assert mg.arc_exit(x, y, vx, vy, W, 0.0, 3.0, 2.0, 1.0, ang - 0.1, 0.2, 1e-12, False) == t
-    assert mg.arc_exit(x, y, vx, vy, W, 0.0, 3.0, 2.0, 1.0, ang + 0.1, 0.2, 1e-12, False) == math.inf
-    assert mg.arc_exit(x, y, vx, vy, W, 0.0, 3.0, 2.0, 1.0, ang, 0.2, 1e-12, False) == t  # end inclusive
+    assert arc_exit(x, y, vx, vy, W, 0.0, 3.0, 2.0, 1.0, ang - 0.1, 0.2, 1e-12, False) == t
+    assert arc_exit(x, y, vx, vy, W, 0.0, 3.0, 2.0, 1.0, ang + 0.1, 0.2, 1e-12, False) == math.inf
+    assert arc_exit(x, y, vx, vy, W, 0.0, 3.0, 2.0, 1.0, ang, 0.2, 1e-12, False) == t  # end inclusive
 
 
 def test_advance_many_matches_advance():
@@ -266,6 +309,6 @@ def test_rounded_tangencies_are_grazes():
         vx, vy = math.cos(a), math.sin(a)
         ux, uy = -vy, vx  # towards the cyclotron centre J v / W (W = 1), at distance 1
         assert mg.line_exit(0.0, 0.0, vx, vy, 1.0, 2 * ux, 2 * uy, ux, uy, False) == math.inf
-        assert mg.line_meets(0.0, 0.0, vx, vy, 1.0, 2 * ux, 2 * uy, ux, uy)
+        assert line_meets(0.0, 0.0, vx, vy, 1.0, 2 * ux, 2 * uy, ux, uy)
         assert mg.circle_exit(0.0, 0.0, vx, vy, 1.0, 3 * ux, 3 * uy, 1.0, 1.0, False) == math.inf
         assert mg.circle_exit(0.0, 0.0, vx, vy, 1.0, 0.5 * ux, 0.5 * uy, 1.5, -1.0, False) == math.inf

@@ -8,6 +8,7 @@ import math
 import mpmath
 import numpy as np
 import pytest
+from test_magnetic_kernels import arc_exit, segment_exit
 
 from noslipsim import Arc, Circle, Scene, Segment, tables
 from noslipsim.core import magnetic as mg
@@ -162,7 +163,7 @@ def first_flight(parts, k, x, y, vx, vy, W, tol):
     """The free time from a point on part ``k`` to the next collision (the float kernels, plain Python)."""
     best = math.inf
     for j, (kind, p, _) in enumerate(parts):
-        exit_ = mg.segment_exit if kind == "segment" else mg.arc_exit
+        exit_ = segment_exit if kind == "segment" else arc_exit
         best = min(best, exit_(x, y, vx, vy, W, *p, tol, j == k))
     return best
 
@@ -229,7 +230,7 @@ def orbit_times(parts, W, x, y, vx, vy, n, tol=1e-12):
     for _ in range(n):
         best, hit = math.inf, -1
         for j, (kind, p, _) in enumerate(parts):
-            exit_ = mg.segment_exit if kind == "segment" else mg.arc_exit
+            exit_ = segment_exit if kind == "segment" else arc_exit
             tj = exit_(x, y, vx, vy, W, *p, tol, j == k)  # the element just hit: its t = 0 root deflated
             if tj < best:
                 best, hit = tj, j

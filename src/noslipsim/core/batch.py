@@ -1,13 +1,8 @@
-"""Many orbits in one compiled call.
+"""Many orbits in one compiled call: ``batch_kernel(flags)`` runs them one after another.
 
-``batch_kernel(flags)`` loops over orbits one after another, around the orbit
-kernel variant ``orbit_kernel(*flags)``.  Parallel runs call it on several
-threads at once, one block of orbits each (it releases the GIL): numba's
-``prange`` is not used, because the function it generates is named from a
-memory address and a per-process counter, which no cache can identify
-stably (core/jit.py), and numba's default threading layer must not be entered
-from several threads at once.  Orbits are independent and deterministic, so
-any split into blocks gives identical results.
+Parallel runs call it on several threads at once, one block of orbits each (it releases the GIL), not
+numba's ``prange`` (docs/algorithm.md, "One kernel call, and a compile cache ..."); orbits are
+independent and deterministic, so any split into blocks gives identical results.
 """
 import functools
 
@@ -24,14 +19,11 @@ N_FINAL = 13
 def batch_kernel(flags=GENERAL):
     """The batch loop around the orbit kernel variant ``orbit_kernel(*flags)`` (``flags``: a :class:`variant.Variant`).
 
-    Arguments: ``starts[i] = (x, y, vx, vy, w)`` relative to the start cell;
-    ``start_elements[i]`` is ``-1`` or the element the orbit starts on;
-    ``stop_below[i]`` the level (relative to the start cell, ``-inf`` for
-    none); ``rec[i]`` receives orbit ``i``'s records; ``final[i]`` its summary
-    (columns ``F_*``; ``F_VARIANT`` is what the orbit kernel that ran reports,
-    :func:`variant.report`); ``ceilings[i]`` the top of a bounded lattice
-    relative to the start cell (``inf`` for none); ``W`` the magnetic field's
-    cyclotron frequency (0 for none).  Other arguments as in
+    Arguments: ``starts[i] = (x, y, vx, vy, w)`` relative to the start cell; ``start_elements[i]`` is ``-1`` or the
+    element the orbit starts on; ``stop_below[i]`` the level (relative to the start cell, ``-inf`` for none); ``rec[i]``
+    receives orbit ``i``'s records; ``final[i]`` its summary (columns ``F_*``; ``F_VARIANT`` is what the orbit kernel
+    that ran reports, :func:`variant.report`); ``ceilings[i]`` the top of a bounded lattice relative to the start cell
+    (``inf`` for none); ``W`` the magnetic field's cyclotron frequency (0 for none).  Other arguments as in
     :func:`loop.run_orbit`.
     """
     orbit = orbit_kernel(*flags)

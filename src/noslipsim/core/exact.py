@@ -1,28 +1,16 @@
 """Error-free transformations: sums and products carried to twice the working precision.
 
-A long flight forms small quantities (its offset from a far disk's centre
-across the flight, a hit point relative to an element) as differences of
-large ones, each rounded to ``eps`` times the flight's length.  These
-primitives keep the rounding error of each step as a second float, so such a
-difference comes out to ``eps`` times its own size:
+A long flight forms small quantities (its offset from a far disk's centre across the flight, a hit
+point relative to an element) as differences of large ones, each rounded to ``eps`` times the
+flight's length.  These primitives keep the rounding error of each step as a second float, so such a
+difference comes out to ``eps`` times its own size: :func:`two_sum` (Knuth), :func:`two_prod` (one
+fused multiply-add; Ogita, Rump & Oishi 2005), and from them :func:`lattice_shift_dd`,
+:func:`cross_dd` and :func:`shifted_dot`.
 
-* :func:`two_sum` (Knuth): ``s + e = a + b`` exactly, ``s = fl(a + b)``;
-* :func:`two_prod`: ``p + e = a b`` exactly, ``p = fl(a b)``, with one fused
-  multiply-add (``e = fma(a, b, -p)``, exact: Ogita, Rump & Oishi 2005);
-* :func:`lattice_shift_dd`: the lattice translation ``n1 a1 + n2 a2`` as an
-  unevaluated sum ``hi + lo`` (exact but for ``eps^2`` terms);
-* :func:`cross_dd`: ``dx vy - dy vx`` for ``dx = dxh + dxl`` and
-  ``dy = dyh + dyl``, to a few ulps of the result however large ``dx, dy``;
-* :func:`shifted_dot`: ``(x - px) nx + (y - py) ny`` to a few ulps of the
-  result however far ``(x, y)`` lies from ``(px, py)`` (a point on a long wall
-  seen from the wall's start).
-
-Python 3.11 has no ``math.fma``; :func:`fma` is LLVM's ``llvm.fma.f64``
-(one instruction on an FMA machine, a correctly rounded library call on any
-other), so the transformations are exact everywhere.  None of this is
-affected by the compile options: kernels never use fastmath (:mod:`jit`), so
-the compiler neither reassociates the sums nor contracts products into
-fused ones.
+Python 3.11 has no ``math.fma``; :func:`fma` is LLVM's ``llvm.fma.f64`` (one instruction on an FMA
+machine, a correctly rounded library call on any other), so the transformations are exact
+everywhere; kernels never use fastmath (:mod:`jit`), so the compiler neither reassociates the sums
+nor contracts products into fused ones.
 
 References: Knuth, TAOCP vol. 2, 4.2.2; Ogita, Rump & Oishi, "Accurate sum
 and dot product", SIAM J. Sci. Comput. 26 (2005).
@@ -90,9 +78,8 @@ def two_prod(a, b):
 def lattice_shift_dd(A, n1, n2):
     """``n1 a1 + n2 a2`` (columns of ``A``) as ``(xh, xl, yh, yl)``, ``x = xh + xl`` to ``eps^2 |x|``.
 
-    The products of the integer indices with the lattice vectors are exact
-    (:func:`two_prod`), so the translation is that of the float lattice the
-    scene defines, not one rounded to ``eps`` times its length.
+    The products of the integer indices with the lattice vectors are exact (:func:`two_prod`), so the translation is
+    that of the float lattice the scene defines, not one rounded to ``eps`` times its length.
     """
     f1 = float(n1)
     f2 = float(n2)
@@ -116,9 +103,8 @@ def offset_dd(x, sh, sl):
 def cross_dd(dxh, dxl, dyh, dyl, vx, vy):
     """``dx vy - dy vx`` for ``dx = dxh + dxl``, ``dy = dyh + dyl``, with an error of a few ulps of the result.
 
-    The two large products are formed exactly and subtracted with
-    :func:`two_sum`; the remaining terms are small (rounding errors and the
-    low parts), so their own rounding is ``eps^2`` times the products.
+    The two large products are formed exactly and subtracted with :func:`two_sum`; the remaining terms are small
+    (rounding errors and the low parts), so their own rounding is ``eps^2`` times the products.
     """
     a, ea = two_prod(dxh, vy)
     b, eb = two_prod(dyh, vx)
@@ -128,7 +114,8 @@ def cross_dd(dxh, dxl, dyh, dyl, vx, vy):
 
 @jit(inline="always")
 def shifted_dot(x, y, px, py, nx, ny):
-    """``(x - px) nx + (y - py) ny`` with an error of a few ulps of the result (plus ``eps^2`` of its terms)."""
+    """``(x - px) nx + (y - py) ny`` with an error of a few ulps of the result (plus ``eps^2`` of its terms),
+    however far ``(x, y)`` lies from ``(px, py)`` (a point on a long wall seen from the wall's start)."""
     dx, ex = two_sum(x, -px)
     dy, ey = two_sum(y, -py)
     a, ea = two_prod(dx, nx)

@@ -1,25 +1,14 @@
 """numba's inliner with the callee's IR copied once per copy, not once per block: the core's compile time.
 
-numba inlines an ``inline="always"`` function by copying the callee's IR
-(``InlineWorker.inline_ir`` in ``numba.core.inline_closurecall``), twice per
-call site, one ``copy.deepcopy`` per block.  Every variable of a block refers
-to the function's scope, which holds every variable of the function, so each
-block's copy copies the whole scope again: ``blocks x variables`` per copy,
-quadratic in the size of the callee (numba issue #8989, open in 0.68).  The
-event loop's steps are closures inlined into closures (the flight step holds
-the search, which holds the cell search, which holds the element exits), so
-the outer ones are large when they are copied: this copy was half the CPU time
-of compiling a kernel (a pentagon's 16 s, a Galton board's 61 s; measured with
-``cProfile``, ``benchmarks/RESULTS.md``).
-
-:func:`one_copy_inlining` makes every ``deepcopy`` of one ``inline_ir`` call
-share one memo, so the scope is copied once per copy and the copied blocks
-share it, as the callee's own blocks share one scope.  Nothing else of the
-inliner changes, and the machine code is the same (``tests/test_inline_copy.py``
-compares it).  It is installed only while one of the core's kernels compiles
-(:func:`jit.jit`), under numba's compiler lock, and only where numba's
-inliner still has the per-block copy it replaces (:data:`APPLIES`);
-``NOSLIPSIM_NUMBA_INLINE_COPY=numba`` turns it off, for comparisons.
+numba inlines an ``inline="always"`` function by copying the callee's IR (``InlineWorker.inline_ir`` in
+``numba.core.inline_closurecall``) twice per call site, one ``copy.deepcopy`` per block; every block
+refers to the function's whole scope, so each copy costs ``blocks x variables`` (numba issue #8989, open
+in 0.68): half of a kernel's compile (docs/algorithm.md, "One kernel call, ...", *Compile time*;
+measured: benchmarks/RESULTS.md).  :func:`one_copy_inlining` makes every ``deepcopy`` of one
+``inline_ir`` call share one memo, so the scope is copied once per copy; nothing else of the inliner
+changes, and the machine code is the same (``tests/test_inline_copy.py``).  It is installed only while
+a core kernel compiles (:func:`jit.jit`), under numba's compiler lock, and only where numba's inliner
+still copies block by block (:data:`APPLIES`); ``NOSLIPSIM_NUMBA_INLINE_COPY=numba`` turns it off.
 """
 import contextlib
 import copy

@@ -1,40 +1,18 @@
 """The one place that decides how every kernel is compiled, named and cached.
 
-Compile options.  All kernels are compiled with ``cache=True`` (compile once
-per machine), ``nogil=True`` (so threads run kernels in parallel) and
-*without* fastmath: the event solver relies on IEEE semantics (signed zeros,
-exact comparisons, no reassociation of the quadratic formula).  They run
-without numba's reference-counting runtime (``_nrt=False``): they allocate
-nothing and return no arrays, so an array view (``params[e]``) needs no owner,
-and every view would otherwise cost an atomic increment and decrement
-(2 to 5 times faster on plain scenes, benchmarks/RESULTS.md).  A kernel that
-allocates fails to compile rather than running unsafely.
-``NOSLIPSIM_NUMBA_NRT=1`` compiles with the runtime, uncached (so the on-disk
-cache never mixes the two), for ``benchmarks/bench_runtime.py``.
+Every kernel is compiled with ``cache=True``, ``nogil=True`` (threads run kernels in parallel) and
+*without* fastmath: the event solver relies on IEEE semantics (signed zeros, exact comparisons, no
+reassociation of the quadratic formula).  Kernels allocate nothing and run without numba's
+reference-counting runtime (``_nrt=False``: no owner per array view; one that allocates fails to
+compile).  ``NOSLIPSIM_NUMBA_NRT=1`` compiles with the runtime, uncached (so the on-disk cache never
+mixes the two), for ``benchmarks/bench_runtime.py``.
 
-Why the cache needs three things numba does not do (docs/algorithm.md, "The
-compile cache"):
-
-1. **A unique symbol per variant.**  numba names a compiled function's
-   machine-code symbol by its module, its ``__qualname__``, a counter that
-   runs per process and its argument types.  Every variant of the event loop
-   is a closure of one factory (:func:`loop.orbit_kernel`), so all share one
-   ``__qualname__``; two variants compiled first in two processes can then get
-   the same counter value, hence the same symbol, and a process that loads both
-   from the cache links the second one's callers to the first one's code
-   (numba issue #10486): a run with gravity ran without it.  :func:`_compile`
-   gives each closure a ``__qualname__`` of its own, derived from the values it
-   captures (its flags, the kernels it calls), so equal symbols mean equal code.
-2. **Entries keyed on every source they contain.**  A cached kernel holds the
-   machine code of the kernels it calls, but numba checks only its own file's
-   time stamp: an edit of ``events.py`` left ``loop.py``'s cached kernels
-   stale.  Each index here is stamped with :data:`SOURCE_DIGEST`, the hash of
-   every ``core`` source, so any change empties every index.
-3. **Atomic index writes** (:func:`_lock_cache_writes`).
-
-And a guard that trusts none of this: every orbit kernel returns the variant
-it was compiled for, with :data:`SOURCE_STAMP` (:mod:`noslipsim.core.variant`),
-and the caller refuses a result from any other.
+numba's cache needs three things it does not do (docs/algorithm.md, "One kernel call, and a compile
+cache that cannot hand back another variant"): a machine-code symbol of its own per closure variant
+(:func:`_name_variant`; numba issue #10486), entries keyed on every ``core`` source
+(:class:`CoreCache`) and atomic index writes (:func:`_lock_cache_writes`).  And a guard that trusts
+none of it: every orbit kernel returns the variant it was compiled for, with :data:`SOURCE_STAMP`
+(:mod:`noslipsim.core.variant`), and the caller refuses a result from any other.
 """
 import hashlib
 import os
@@ -79,10 +57,9 @@ SOURCE_STAMP = int(SOURCE_DIGEST[:8], 16)
 class CoreCache(FunctionCache):
     """numba's function cache, valid only for the exact core sources it was compiled from.
 
-    numba stamps an index with its own source file's modification time and
-    size; a different stamp reads as an empty index, and the next save
-    replaces it.  Adding :data:`SOURCE_DIGEST` to that stamp makes a change
-    anywhere in ``core`` do the same for every kernel.
+    numba stamps an index with its own source file's modification time and size; a different stamp reads as
+    an empty index, which the next save replaces.  Adding :data:`SOURCE_DIGEST` to that stamp makes a change
+    anywhere in ``core`` do the same.
     """
 
     def __init__(self, py_func):
@@ -121,14 +98,10 @@ def _name_variant(func):
 def _lock_cache_writes(dispatcher):
     """Make each write to the dispatcher's on-disk cache one step for other processes.
 
-    numba saves an entry by reading the index, choosing the first free data
-    file number, writing the index, then the data file, with no lock.  Two
-    processes compiling two variants of one kernel at once (two Snakemake
-    jobs, two dask workers) can both pick the same number: the index then
-    maps one variant's key to the other variant's machine code.  An exclusive
-    ``flock`` on a file beside the index makes the read-modify-write atomic.
-    Loads need no lock: numba replaces the index and data files atomically,
-    and an index entry whose data is not written yet reads as a miss.
+    numba saves an entry by reading the index, choosing the first free data file number, writing the index,
+    then the data file, with no lock: two processes compiling two variants at once (two Snakemake jobs) could
+    pick the same number.  An exclusive ``flock`` beside the index makes the read-modify-write atomic.  Loads
+    need no lock: numba replaces both files atomically, and an entry whose data is not written yet is a miss.
     """
     cache_file = getattr(getattr(dispatcher, "_cache", None), "_cache_file", None)
     if fcntl is None or cache_file is None:

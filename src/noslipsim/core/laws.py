@@ -22,8 +22,7 @@ from .layout import NOSLIP
 def noslip_coefficients(gamma):
     """Return ``(c, s)`` of the no-slip law for mass-distribution constant ``gamma >= 0``.
 
-    ``c = cos(beta)``, ``s = sin(beta)`` with ``gamma = tan(beta/2)``; the rational
-    form is exact at gamma = 0 and 1.
+    ``c = cos(beta)``, ``s = sin(beta)`` with ``gamma = tan(beta/2)``; the rational form is exact at gamma = 0 and 1.
     """
     if gamma > 1e150:  # gamma^2 would overflow; c = -1 + O(1/gamma^2)
         return -1.0, 2.0 / gamma

@@ -24,27 +24,25 @@ ARC = 3
 
 N_PARAMS = 14
 
-#: Lines and segments: 1.0 where a hit can lie far from the wall's ``p0`` compared with the
-#: table's smallest feature, so its plain distance can cancel and the loop checks it
-#: (:func:`events.exact_line_hit`); 0.0 on a compact table's walls, which skip the check
-#: (a wall at most ``LONG_WALL_RATIO`` times the smallest feature: the plain form's error,
-#: ``eps`` times the wall's length, is a few ulps of that feature).  Set by ``Scene.arrays``;
-#: 0.0 on circles and arcs, so the loop tests the flag alone.
+#: Lines and segments: 1.0 where a hit can lie far from the wall's ``p0`` compared with the table's smallest
+#: feature, so its plain distance can cancel and the loop checks it (:func:`events.exact_line_hit`); 0.0 on a
+#: compact table's walls, which skip the check (a wall at most ``LONG_WALL_RATIO`` times the smallest feature:
+#: the plain form's error, ``eps`` times the wall's length, is a few ulps of that feature).  Set by
+#: ``Scene.arrays``; 0.0 on circles and arcs, so the loop tests the flag alone.
 LONG_WALL = 12
 #: A segment longer than this many times the table's smallest feature (shortest segment,
 #: smallest radius) is a long wall; a line always is (it has no end).
 LONG_WALL_RATIO = 16.0
 
-#: Segments: ``-side / L`` (side +1 left, -1 right), which turns ``(q - p0) x (p1 - p0)``
-#: into the signed distance, and the end point ``p1`` itself, so a distance far along
-#: the segment can be formed from its own end points (:func:`geometry.line_value`).
+#: Segments: ``-side / L`` (side +1 left, -1 right), which turns ``(q - p0) x (p1 - p0)`` into the signed
+#: distance, and ``p1`` itself, so a distance far along the segment is formed from its own end points
+#: (:func:`geometry.line_value`).
 SEG_CROSS_SCALE = 7
 SEG_P1X = 10
 SEG_P1Y = 11
 
-#: Segments and arcs: columns holding the end-band factors of their start and
-#: end (1 at a convex junction, ``NONCONVEX_END_FACTOR`` at a reflex junction
-#: or a free end; see :mod:`noslipsim.junctions`).
+#: Segments and arcs: the end-band factors of their start and end (1 at a convex junction,
+#: ``NONCONVEX_END_FACTOR`` at a reflex junction or a free end; :mod:`noslipsim.junctions`).
 END_START = 8
 END_END = 9
 

@@ -11,44 +11,23 @@ spin are constant in flight; with ``theta = W t``
     x(t) = x_0 + \frac{\sin\theta}{W} v_0 + \frac{2 \sin^2(\theta/2)}{W} J v_0,
 
 a circle of radius ``c/|W|`` about ``x_0 + J v_0 / W``, run counter-clockwise
-for ``W > 0``.  The half-angle form of ``(1 - cos theta)/W`` keeps ``W -> 0``
-(the straight flight) free of cancellation, and below ``|theta| = 1e-8`` the
-series is used, so a tiny ``W`` never divides.
-
-Crossings (docs/algorithm.md, "Magnetic flights").  Along the flight a line's
-signed distance and a circle's ``sigma (|x - p|^2 - r^2)`` (each positive on
-the table side) are ``g(t) = g_0 + a \sin\theta / W + b (1 - \cos\theta) / W``,
-so a crossing solves ``A cos(theta) + B sin(theta) = C``.  The tangent
-half-angle ``zeta = 2 tan(theta/2) / W`` (``-> t`` as ``W -> 0``) maps one
-period ``[0, 2 pi/|W|)`` onto the real line and turns it into the quadratic
+for ``W > 0``.  The half-angle form, and the series below ``|theta| = 1e-8``,
+keep ``W -> 0`` (the straight flight) free of cancellation and of a division
+by a tiny ``W``.  A line's signed distance or a circle's
+``sigma (|x - p|^2 - r^2)`` along the path is ``g = g_0 + a S + b Q``
+(``S = sin(theta)/W``, ``Q = (1 - cos(theta))/W``); in the tangent half-angle
+``zeta = 2 tan(theta/2) / W`` (``= t`` for ``W = 0``) it is the quadratic
 
 .. math::
 
     (1 + \tan^2(\theta/2))\, g = c_0 + c_1 \zeta + c_2 \zeta^2, \qquad
-    c_0 = g_0, \; c_1 = a, \; c_2 = W b / 2 + W^2 g_0 / 4
+    c_0 = g_0, \; c_1 = a, \; c_2 = W b / 2 + W^2 g_0 / 4,
 
-(for a circle ``c_2 = sigma (c^2 + W d . J v_0 + W^2 f_0 / 4)``), whose
-discriminant is ``hypot(A, B)^2 - C^2`` up to a positive factor.  On a closed
-orbit the roots come in pairs: once per period the orbit enters the table side
-and once it leaves it.  The exit is the root where the quadratic falls,
-``zeta = (-c_1 - sqrt(D)) / (2 c_2)``, formed without cancellation as
-``num / den`` (``den = 0``: the root at ``zeta = inf``, half a period), and its
-time is ``t = (2/|W|) atan2(|W| num, 2 den)`` taken into ``(0, 2 pi/|W|)``.
-So an element is met at most once per period, at its exit root, or never:
-an exit outside a segment's or arc's extent is missed on every turn.
-
-* *Deflation*: on the element just hit ``c_0 = 0`` exactly and the other
-  root is ``zeta = -c_1 / c_2`` (no square root; ``t = 0`` and ``t = 2 pi/|W|``
-  are the collision itself, never a hit).
-* *Certified grazing*: ``D`` is formed with one rounding (``fma``) and
-  compared with a first-order bound on its error from the rounding of the
-  coefficients (:data:`GRAZE_ULPS`); within it the orbit touches the element
-  to rounding (``|C| = hypot(A, B)``), which is no crossing.  A larger ``D``
-  certainly has the sign it shows.
-
-``W = 0`` is the straight flight (``zeta = t``, no root at infinity).
-Kernels take raw floats (normals outward, out of the table, as the collision
-frame's ``n``); the slow twin is :mod:`noslipsim.reference.magnetic`.
+so an element is met at most once per period, at the exit root (where the
+quadratic falls), or never.  Its time, deflation and certified grazing
+(:data:`GRAZE_ULPS`): docs/algorithm.md, "Magnetic flights".  Kernels take raw
+floats (normals outward, out of the table, as the collision frame's ``n``);
+the slow twin is :mod:`noslipsim.reference.magnetic`.
 """
 import math
 
@@ -285,17 +264,6 @@ def line_exit(x, y, vx, vy, W, px, py, nx, ny, deflate):
 
 
 @jit
-def segment_exit(x, y, vx, vy, W, px, py, nx, ny, ux, uy, length, tol, deflate):
-    """:func:`line_exit` within the segment from ``p`` along the unit ``u`` (``0 <= s <= length`` within ``tol``)."""
-    t = line_exit(x, y, vx, vy, W, px, py, nx, ny, deflate)
-    if t == INF:
-        return INF
-    hx, hy, _, _ = advance(x, y, vx, vy, W, t)
-    s = (hx - px) * ux + (hy - py) * uy
-    return t if -tol <= s <= length + tol else INF
-
-
-@jit
 def circle_exit(x, y, vx, vy, W, cx, cy, r, sigma, deflate):
     """Earliest time in ``(0, 2 pi/|W|)`` the flight leaves the table through the circle, or inf.
 
@@ -303,32 +271,3 @@ def circle_exit(x, y, vx, vy, W, cx, cy, r, sigma, deflate):
     """
     c0, c1, c2, m0, m1, m2 = circle_coefficients(x, y, vx, vy, W, cx, cy, r, sigma, deflate)
     return exit_time(c0, c1, c2, m0, m1, m2, W, deflate)
-
-
-@jit
-def arc_exit(x, y, vx, vy, W, cx, cy, r, sigma, theta0, span, tol, deflate):
-    """:func:`circle_exit` within the arc counter-clockwise from ``theta0`` over ``span`` (ends within ``tol``)."""
-    t = circle_exit(x, y, vx, vy, W, cx, cy, r, sigma, deflate)
-    if t == INF:
-        return INF
-    hx, hy, _, _ = advance(x, y, vx, vy, W, t)
-    ang = (math.atan2(hy - cy, hx - cx) - theta0) % (2.0 * math.pi)
-    slack = tol / r
-    if ang <= span + slack or ang >= 2.0 * math.pi - slack:
-        return t
-    return INF
-
-
-@jit
-def line_meets(x, y, vx, vy, W, px, py, nx, ny):
-    """The cyclotron circle (``W = 0``: the flight's whole line) touches or crosses the line (certified as grazing)."""
-    c0, c1, c2, m0, m1, m2 = line_coefficients(x, y, vx, vy, W, px, py, nx, ny, False)
-    return can_meet(c0, c1, c2, m0, m1, m2)
-
-
-@jit
-def circle_meets(x, y, vx, vy, W, cx, cy, r):
-    """The cyclotron circle (``W = 0``: the flight's whole line) touches or crosses the circle."""
-    c0, c1, c2, m0, m1, m2 = circle_coefficients(x, y, vx, vy, W, cx, cy, r, 1.0, False)
-    return can_meet(c0, c1, c2, m0, m1, m2)
-

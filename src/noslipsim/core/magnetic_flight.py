@@ -44,7 +44,7 @@ def state_at(F, t):
 @jit(inline="always")
 def speed_bound(vx, vy):
     """``|v|`` to rounding (the reach tests' margin of 1e-9 covers it) from ``sqrt``, not ``math.hypot`` (a libm call
-    per search, 5 to 10 % of a pentagon's collision); ``inf`` (no test) where the squares could under- or overflow."""
+    per search; measured: benchmarks/RESULTS.md); ``inf`` (no test) where the squares could under- or overflow."""
     s2 = vx * vx + vy * vy
     if not 1e-280 < s2 < 1e280:
         return INF
@@ -86,14 +86,11 @@ shift = copy_shift
 def element_exit(kind, p, G, S, deflate, lo, hi, extent_tol):
     """The exit root in ``(lo, hi]`` through the element copy shifted by ``S[:2]``, within its extent, or inf.
 
-    ``G`` is the state at ``lo`` (:func:`window`; ``deflate`` only with ``lo = 0``): the next exit after
-    ``lo``, as a closed path meets an element at one root per period.  Copies the path cannot reach
-    before ``hi`` (their distance over the speed) and exits after ``hi`` are dropped before the
-    exit's time and point are formed: the cell search passes the earliest hit so far as ``hi``.  A
-    segment's extent is tested before the time: the root's point is rational (:func:`root_position`),
-    its time an ``atan2``, and most lines the cyclotron circle crosses it leaves off their segment.
-    With ``hi`` finite, an exit certainly after it is dropped before that ``atan2``
-    (:func:`magnetic.exit_after`).
+    ``G`` is the state at ``lo`` (:func:`window`; ``deflate`` only with ``lo = 0``): the next exit after ``lo``,
+    as a closed path meets an element at one root per period.  The cell search passes the earliest hit so far
+    as ``hi``: a copy the path cannot reach by then, a segment's exit off the segment (its point is rational,
+    :func:`root_position`) and an exit certainly later (:func:`magnetic.exit_after`) are dropped before the
+    exit's ``atan2`` (docs/algorithm.md, "Magnetic flights", *What a copy costs*).
     """
     x, y, vx, vy, W, c = G
     x -= S[0]

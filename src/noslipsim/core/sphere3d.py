@@ -60,9 +60,8 @@ def bounce(c, s, vx, vy, vz, wx, wy, wz):
 def run_sphere(c, s, g, x, y, z, vx, vy, vz, wx, wy, wz, log):
     """Fill ``log`` (shape ``(n_bounces, N_LOG)``) with one row per bounce from a start above the plane.
 
-    Times are measured from the start; positions are advanced flight by
-    flight (each relative to the previous bounce) and the bounce point is put
-    exactly on the plane.  The impact speed is ``sqrt(vz^2 + 2 g z)`` so that
+    Times are measured from the start; positions are advanced flight by flight (each relative to the previous bounce)
+    and the bounce point is put exactly on the plane.  The impact speed is ``sqrt(vz^2 + 2 g z)`` so that
     ``|v|^2 + 2 g z`` is kept to rounding.
     """
     t = 0.0

@@ -1,41 +1,19 @@
 r"""Event times of thermostatted flights: certified brackets, then safeguarded Newton on the closed form.
 
-A thermostatted path (:mod:`thermostat`) is transcendental, so its crossings
-are not roots of a polynomial.  Two facts make them as certain as the
-parabolic ones:
+A thermostatted path (:mod:`thermostat`) is transcendental; two facts make its crossings as certain
+as the parabolic ones (docs/algorithm.md, "Thermostatted flights", *Events*):
 
-* **Lines are unimodal.**  Along the flight, ``f(t) = f0 + n . (q(t) - q(0))``
-  has ``f' = c (n1 cos phi + n2 sin phi)`` (``n1, n2`` the field-frame parts
-  of ``n``); with ``cos phi = -tanh lambda``, ``sin phi = sgn / cosh lambda``
-  this vanishes only where ``sinh lambda = sgn n2 / n1``, and ``lambda`` falls
-  linearly: at most one critical time, in closed form.  So ``f`` has at most
-  one exit root (as a quadratic), isolated exactly between ``0``, the
-  critical time and the window's end, and polished by safeguarded Newton
-  with a bisection fallback (:func:`line_exit`).  Lattice strips and the
-  stop level are such functions too.
-* **Circles are bracketed by the curvature bound.**  ``G(t) = sigma (|d(t)|^2
-  - r^2)`` (``d = q - centre``) has ``G'' = 2 sigma (c^2 + d . a)`` with
-  ``|a| = E |sin phi| <= E`` (``|sin phi|`` is at most its value now once
-  ``|phi| < pi/2``: the heading only relaxes towards the field).  On a step
-  window ``[a, a + W]`` where ``|d| <= |d_a| + c W``, ``G`` lies between the
-  quadratics ``G_a + G'_a tau + (sigma c^2 -+ Q) tau^2``, ``Q = (|d_a| + c W)
-  E S``.  The first root of the lower quadratic is a step that cannot pass a
-  root (conservative advancement, quadratic near a transverse root); once the
-  upper quadratic also reaches zero inside the window, ``[a + tau_lo, a +
-  tau_up]`` holds exactly one root, an exit (``G' < 0`` throughout), polished
-  like a line's (:func:`round_hit`).  Where ``G`` is negative (an arc's
-  circle away from the arc) the upper quadratic bounds the time until ``G``
-  can be positive again.  A tangency to rounding (``G`` and ``G'`` zero to
-  their rounding) is decided from the exact second derivative, as the
-  polynomial solver decides it from the sign pattern around a double root:
-  a path that dips below by more than the rounding exits, one that does not
-  is a tangency (no collision).
+* **Lines are unimodal.**  ``f(t) = f0 + n . (q(t) - q(0))`` has ``f' = c (n1 cos phi + n2 sin phi)``
+  (``n1, n2`` the field-frame parts of ``n``), zero only where ``sinh lambda = sgn n2 / n1``: one
+  critical time, in closed form, so at most one exit root, isolated between ``0``, that time and the
+  window's end, then polished (:func:`line_exit`).  Lattice strips and the stop level are such functions.
+* **Circles are bracketed by the curvature bound.**  On a step window ``[a, a + W]``,
+  ``G(t) = sigma (|d(t)|^2 - r^2)`` lies between the quadratics
+  ``G_a + G'_a tau + (sigma c^2 -+ Q) tau^2``, ``Q = (|d_a| + c W) E S``: the lower one's first root is
+  a step that cannot pass a root; once the upper one's is in the window too, the bracket holds exactly
+  one exit (:func:`round_hit`).  A tangency to rounding is decided by the exact ``G''``.
 
-No collision is missed and none is invented, to the rounding of the closed
-form: the brackets are proofs in exact arithmetic, the polish only narrows
-them.  An exit exactly at the window's end counts; the element just hit has
-its root ``t = 0`` removed by reading the sign just after it from the
-derivatives (deflation, as for polynomials).
+The brackets are proofs in exact arithmetic; the polish only narrows them.
 """
 import math
 
@@ -50,11 +28,9 @@ from .tolerances import ROOT_MAX_ITER
 INF = math.inf
 EPS = 2.220446049250313e-16
 
-#: Conservative steps one circle search may take before it gives up (not reached in the tests and
-#: benchmarks since a step below the resolution of the time counts as no progress and is lengthened
-#: to a rounding step: before, one random flight of the tests stalled here and returned "no hit" by
-#: luck).  Giving up is not "no hit": the search returns :data:`GAVE_UP`, the
-#: cell search the element :data:`SEARCH_FAILED`, the cell walk the status 3, and the event loop
+#: Conservative steps one circle search may take before it gives up (not reached in the tests and benchmarks:
+#: a step below the time's resolution is lengthened to a rounding step).  Giving up is not "no hit": the search
+#: returns :data:`GAVE_UP`, the cell search :data:`SEARCH_FAILED`, the cell walk status 3, and the event loop
 #: stops the orbit with ``layout.STOP_SEARCH_LIMIT`` ("search_limit") where it stands.
 MAX_STEPS = 100_000
 #: Bracket doublings for the last, unbounded piece of a line (each doubles the time window).
@@ -181,9 +157,8 @@ def _line_root_from_zero(fl, f0, n1, n2, nv, a, b, fb, derb):
 def line_exit(fl, f0, nx, ny, lo, hi, deflate):
     """First exit root in ``(lo, hi]`` of ``f(t) = f0 + n . (q(t) - q(0))`` along a thermostatted flight, or inf.
 
-    ``f`` is positive on the table side (``n`` need not be unit).  ``deflate``
-    (with ``lo = 0``): ``f0 = 0`` is the root ``t = 0`` of the element just
-    hit, removed; the sign just after it is that of ``f'(0)`` (or ``f''(0)``).
+    ``f`` is positive on the table side (``n`` need not be unit).  ``deflate`` (with ``lo = 0``): ``f0 = 0`` is the root
+    ``t = 0`` of the element just hit, removed; the sign just after it is that of ``f'(0)`` (or ``f''(0)``).
     """
     n1, n2 = _field_parts(fl, nx, ny)
     nv = nx * fl[2] + ny * fl[3]
@@ -340,9 +315,8 @@ def _step_bounds(fl, r, E, dn, lam, a, hi, d0):
 def _tangency(fl, E, sig, dx, dy, vx, vy, G, G1, a, tlo, span, noise):
     """``G`` zero to rounding and no sure crossing: ``(root, tlo)``, decided by ``G''``.
 
-    At the circle and curving out: it leaves here.  A dip deeper than the
-    rounding: the first crossing.  Otherwise a tangency (no collision): the
-    step ``tlo`` is lengthened past the minimum of ``G``.
+    At the circle and curving out: it leaves here.  A dip deeper than the rounding: the first crossing.  Otherwise a
+    tangency (no collision): the step ``tlo`` is lengthened past the minimum of ``G``.
     """
     root = INF
     aex, aey = drag(vx, vy, E * fl[12], E * fl[13])
@@ -362,9 +336,8 @@ def _tangency(fl, E, sig, dx, dy, vx, vy, G, G1, a, tlo, span, noise):
 def _table_side_step(fl, E, cx, cy, sig, r, dx, dy, vx, vy, lam, G, G1, a, hi, span, Q, noise):
     """On the table side at ``a``: ``(step, root)``, a crossing ``root`` (inf if none) or else a safe ``step``.
 
-    The lower quadratic's first root is a step that cannot pass a crossing;
-    once the upper one's is in the window too, the bracket holds the exit.
-    ``step`` inf: the flight recedes for good, no exit.
+    The lower quadratic's first root is a step that cannot pass a crossing; once the upper one's is in the window too,
+    the bracket holds the exit.  ``step`` inf: the flight recedes for good, no exit.
     """
     c = fl[4]
     tlo = _first_root(G, G1, sig * c * c - Q)
@@ -416,9 +389,8 @@ def _crossing_verdict(kind, p, fl, sx, sy, lo, hi, extent_tol, root):
 def round_hit(kind, p, fl, sx, sy, lo, hi, deflate, extent_tol, E):
     """First exit root in ``(lo, hi]`` of a circle or arc copy (shifted by ``(sx, sy)``) within its extent, or inf.
 
-    Conservative steps between the quadratic bounds of the module docstring;
-    ``deflate`` (with ``lo = 0``): the copy was just hit at ``t = 0``.  After
-    :data:`MAX_STEPS` steps without a decision: :data:`GAVE_UP` (negative).
+    Conservative steps between the quadratic bounds of the module docstring; ``deflate`` (with ``lo = 0``): the copy was
+    just hit at ``t = 0``.  After :data:`MAX_STEPS` steps without a decision: :data:`GAVE_UP` (negative).
     """
     cx = p[0] + sx
     cy = p[1] + sy

@@ -8,12 +8,11 @@ mass, strength ``E = |F|``) with the Gaussian isokinetic thermostat moves as
     \dot q = v, \qquad \dot v = F - \alpha v, \qquad \alpha = \frac{F \cdot v}{|v|^2},
 
 so its speed ``c = |v|`` and its spin are constant in flight and only the
-heading turns, towards the field.  With ``phi`` the heading measured
-counter-clockwise from ``F``, ``k = E / c`` and ``R = c / k = c^2 / E``:
-``phi' = -k sin(phi)``, and ``lambda = ln|tan(phi / 2)|`` falls linearly,
-``lambda(t) = lambda_0 - k t``.  In the field frame (``x'`` along ``F``,
-``y'`` along ``J F``), with ``C^2 = cos^2(phi_0/2)``, ``S^2 = sin^2(phi_0/2)``
-and ``e = exp(-k t)`` (docs/algorithm.md, "Thermostatted flights"):
+heading ``phi`` (counter-clockwise from ``F``) turns, towards the field:
+``phi' = -k sin(phi)`` with ``k = E / c``, and ``lambda = ln|tan(phi / 2)|``
+falls linearly, ``lambda(t) = lambda_0 - k t``.  In the field frame (``x'``
+along ``F``, ``y'`` along ``J F``), with ``R = c^2 / E``,
+``C^2 = cos^2(phi_0/2)``, ``S^2 = sin^2(phi_0/2)`` and ``e = exp(-k t)``:
 
 .. math::
 
@@ -22,19 +21,10 @@ and ``e = exp(-k t)`` (docs/algorithm.md, "Thermostatted flights"):
 
     \cos\phi = -\tanh\lambda, \qquad \sin\phi = \operatorname{sgn}(\sin\phi_0) / \cosh\lambda .
 
-Every function here evaluates these from the flight's start, never by
-accumulating steps.  The forms are chosen so that nothing cancels or
-overflows: ``1 - e`` and ``1 - e^2`` by ``expm1``, the logarithm by ``log1p``
-while it is small and as a difference of softplus terms of ``lambda`` when it
-is not (``k t >> 1``: ``u = tan(phi/2)`` underflows, ``x'`` grows like ``c t``),
-and the heading from ``lambda`` (no ``tan`` near ``phi = pi``).  A flight along
-the field (``S = 0``) or exactly against it (``C = 0``, the unstable straight
-line) is straight and evaluated as such.
-
-A flight is packed once, at its start, into a tuple of floats (:func:`flight`);
-the event search (:mod:`thermo_events`) evaluates it at the trial times of its
-root finders.  The path's curvature ``|phi'| / c = (E / c^2) |sin phi|`` is at
-most ``E / c^2``: the bound behind the certified collision brackets there.
+A flight is packed once, at its start (:func:`flight`), and evaluated from
+there at each trial time of the event search (:mod:`thermo_events`), never by
+steps, in forms where nothing cancels or overflows (docs/algorithm.md,
+"Thermostatted flights").
 """
 import math
 
@@ -70,14 +60,11 @@ def cross(ax, ay, vx, vy):
 def flight(x, y, vx, vy, ax, ay):
     """The flight from ``(x, y)`` with velocity ``(vx, vy)`` (speed > 0) in the field ``(ax, ay)`` (``!= 0``), packed.
 
-    Returns ``(x, y, vx, vy, c, k, R, C2, S2, SC, lam0, sgn, fx, fy)``: the
-    start, the speed ``c``, ``k = E / c``, ``R = c^2 / E``, the half-angle
-    terms ``C2 = cos^2(phi_0/2)``, ``S2 = sin^2(phi_0/2)``, ``SC = sin(phi_0/2)
-    cos(phi_0/2)`` (each formed without cancellation), ``lam0 = ln|tan(phi_0/2)|``
-    (``-inf`` along the field, ``+inf`` against it), the sign of ``sin phi_0``
-    and the field's unit direction.  ``c sin(phi_0) = (F x v) / E`` is formed
-    to a few ulps of itself: a flight nearly along or against the field (the
-    unstable straight line, whose small angle grows like ``exp(k t)``) keeps
+    Returns ``(x, y, vx, vy, c, k, R, C2, S2, SC, lam0, sgn, fx, fy)``: the start, the speed ``c``, ``k = E / c``,
+    ``R = c^2 / E``, ``C2 = cos^2(phi_0/2)``, ``S2 = sin^2(phi_0/2)``, ``SC = sin(phi_0/2) cos(phi_0/2)`` (each
+    without cancellation), ``lam0 = ln|tan(phi_0/2)|`` (``-inf`` along the field, ``+inf`` against it), the sign
+    of ``sin phi_0`` and the field's unit direction.  ``c sin(phi_0) = (F x v) / E`` is formed to a few ulps of
+    itself (:func:`cross`): a flight nearly against the field (whose small angle grows like ``exp(k t)``) keeps
     its angle's digits, and an exactly (anti)parallel one is straight.
     """
     E, fx, fy = field(ax, ay)
@@ -151,12 +138,10 @@ def _atan_tail(z):
 def displacement(fl, t):
     """``(tl, dX, dY, cos phi, sin phi, lam)`` after time ``t >= 0``: the move and the heading.
 
-    The move is ``v0 tl + dX F + dY (J F)`` (``F`` the field's unit
-    direction): for ``k t <= SHORT`` the straight step ``v0 t`` and its bend
-    (``tl = t``), each to a few ulps of itself, so that a short flight's
-    distance from a wall it grazes or just left has the precision of that
-    distance, not of the step; otherwise the closed form in the field frame
-    (``tl = 0``).  A flight along or exactly against the field is straight.
+    The move is ``v0 tl + dX F + dY (J F)`` (``F`` the field's unit direction): for ``k t <= SHORT`` the
+    straight step ``v0 t`` and its bend (``tl = t``), each to a few ulps of itself, so a short flight's distance
+    from a wall it grazes or just left has the precision of that distance, not of the step; otherwise the closed
+    form in the field frame (``tl = 0``).  A flight along or exactly against the field is straight.
     """
     _x, _y, _vx, _vy, c, k, R, C2, S2, SC, lam0, sgn, _fx, _fy = fl
     if sgn == 0.0:  # straight along (or exactly against) the field
@@ -218,8 +203,7 @@ def drag(vx, vy, ax, ay):
 def advance_many(x, y, vx, vy, ax, ay, tau, out):
     """:func:`advance` for arrays of starts and durations (one flight per entry); ``out[i] = (x, y, vx, vy)``.
 
-    For plots and checks above the kernels (drawing a thermostatted orbit,
-    sampling its flights).
+    For plots and checks above the kernels (drawing a thermostatted orbit, sampling its flights).
     """
     for i in range(x.shape[0]):
         out[i, 0], out[i, 1], out[i, 2], out[i, 3] = advance(x[i], y[i], vx[i], vy[i], ax, ay, tau[i])
