@@ -158,8 +158,9 @@ def test_kernel_variant_asks_only_for_what_the_scene_needs(name, law, mode):
     # no records: the recorder is compiled out; a log or a portrait: one kernel reads which at run time
     assert (m == mode and type(m) is int) if mode == NONE else m is None
     assert disks is (name == "sinai_torus")
-    # the settle's form (core/energy.py, "Which form"): targeted for a line or segment (the pentagon, the box,
-    # the wedge) and for the spin in flight under free fall (no-slip, a force); whole for disks only otherwise
+    # the settle's form (docs/algorithm.md, "Which form, per table"): targeted for a line or segment (the
+    # pentagon, the box, the wedge) and for the spin in flight under free fall (no-slip, a force); whole for disks
+    # only otherwise
     flat = name in ("pentagon", "sinai_box", "wedge")
     assert settle == (TARGETED if flat or (flight == FORCE and law == "no-slip") else WHOLE)
     assert walls is (name == "wedge")

@@ -1,4 +1,4 @@
-"""The energy settle's form, a compile-time slot chosen by the table (``core/energy.py``, "Which form").
+"""The energy settle's form, a compile-time slot chosen by the table (docs/algorithm.md, "Which form, per table").
 
 Each table class keeps its invariants over 10^6 collisions of one orbit through its own compiled
 kernel: the energy within 1e-12 (relative to the size of its terms) wherever a settle acts, and,

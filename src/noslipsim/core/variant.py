@@ -25,7 +25,7 @@ THERMOSTAT = 2
 MAGNETIC = 3
 #: Names of the flights, by code (as :func:`describe` prints them).
 FLIGHTS = ("straight", "force", "thermostat", "magnetic")
-#: The forms a ``settle`` slot may hold (:mod:`energy`, "Which form"): the whole state scaled
+#: The forms a ``settle`` slot may hold (docs/algorithm.md, "Which form, per table"): the whole state scaled
 #: (:func:`energy.settle_whole`), or the part where the rounding arose, chosen per orbit
 #: (:func:`energy.settle_mode`; :func:`energy.settle_velocity` after a mixed table's specular element).
 WHOLE = 0
