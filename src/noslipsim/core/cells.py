@@ -92,119 +92,127 @@ def _face_time(alpha0, alpha1, face, t_in):
     return max((face - alpha0) / alpha1, t_in)
 
 
-def _straight_walk(hit_in_cell, _walk_straight_far):
-    """:func:`walk_hit`'s walk without force over the cell search ``hit_in_cell``, on to ``_walk_straight_far``."""
-    @jit
-    def _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
-                       cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling):
-        """:func:`walk_hit` for a flight without force: the incremental grid walk.
+@jit(inline="always")
+def _straight_start(alpha0, alpha1, d, t_in):
+    """``(t, step)``: when and which way a straight flight from ``t_in`` leaves the strip of cell index ``d``."""
+    step = 1 if alpha1 > 0.0 else -1
+    return (_face_time(alpha0, alpha1, d + 0.5 * step, t_in) if alpha1 != 0.0 else INF), step
 
-        ``alpha(t) = a0 + a1 t`` and ``beta(t) = b0 + b1 t`` are the flight's lattice
-        coordinates.  Cell ``(d1, d2)`` is left through the face ``d1 + s1/2`` (``s1``
-        the sign of ``a1``) or ``d2 + s2/2``, whichever comes first; on a tie both
-        indices step (a flight through a lattice point).
-        """
-        s1 = 1 if a1 > 0.0 else -1
-        s2 = 1 if b1 > 0.0 else -1
-        d1 = 0
-        d2 = 0
-        t_in = 0.0
-        ta = _face_time(a0, a1, 0.5 * s1, 0.0) if a1 != 0.0 else INF
-        tb = _face_time(b0, b1, 0.5 * s2, 0.0) if b1 != 0.0 else INF
+
+@jit(inline="always")
+def _straight_next(alpha0, alpha1, d, step, t_out):
+    """A straight flight's next face time, in the strip ``d`` it entered at ``t_out``."""
+    return _face_time(alpha0, alpha1, d + 0.5 * step, t_out)
+
+
+@jit(inline="always")
+def _straight_exits(a0, a1, a2, b0, b1, b2, d1, d2, t_in, ta, sa, tb, sb):
+    """A straight flight's cell exits: the face times already stepped (:func:`_straight_next`)."""
+    return ta, sa, tb, sb
+
+
+@jit(inline="always")
+def _straight_flight(x, y, vx, vy, ax, ay):
+    """The cell search's flight without force (the zero acceleration compiled in)."""
+    return x, y, vx, vy, 0.0, 0.0
+
+
+@jit(inline="always")
+def _force_start(alpha0, alpha1, d, t_in):
+    """Under a force each cell solves its exits (:func:`_force_exits`): nothing before."""
+    return INF, 0
+
+
+@jit(inline="always")
+def _force_next(alpha0, alpha1, d, step, t_out):
+    """Under a force the next cell's exits are solved there (:func:`_force_exits`)."""
+    return t_out
+
+
+@jit(inline="always")
+def _force_exits(a0, a1, a2, b0, b1, b2, d1, d2, t_in, ta, sa, tb, sb):
+    """``(ta, sa, tb, sb)``: when and which way the flight under a force leaves cell ``(d1, d2)``."""
+    ta, sa = _strip_exit(a0, a1, a2, d1 - 0.5, d1 + 0.5, t_in)
+    tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
+    return ta, sa, tb, sb
+
+
+@jit(inline="always")
+def _force_flight(x, y, vx, vy, ax, ay):
+    """The cell search's flight under a force."""
+    return x, y, vx, vy, ax, ay
+
+
+def _by_distance(hit_in_cell, far_hit_in_cell):
+    """A cell search by :func:`far_hit_in_cell` from ``FAR_CELLS`` cells on, by ``hit_in_cell`` nearer."""
+    @jit(inline="always")
+    def search(kinds, params, copies, A, d1, d2, F, cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, shifted, ceiling):
+        """``hit_in_cell``'s call, by the search that fits the cell's distance from the start."""
+        if max(abs(d1), abs(d2)) < FAR_CELLS:
+            return hit_in_cell(kinds, params, copies, A, d1, d2, F, cur_e, cur_o1, cur_o2, hi, extent_tol, t_in,
+                               shifted, ceiling)
+        return far_hit_in_cell(kinds, params, copies, A, d1, d2, F, cur_e, cur_o1, cur_o2, hi, extent_tol, t_in,
+                               shifted, ceiling)
+
+    return search
+
+
+def _cell_walk(force, search, hand_on=None, inline=False):
+    """A walk over the cells a flight crosses, from cell ``(d1, d2)`` at ``t_in``, each cell by ``search``.
+
+    ``force``: the flight's exits solved per cell (:func:`_strip_exit`), else stepped face by face
+    (:func:`_face_time`).  With ``hand_on`` (a near walk) the walk stops at ``FAR_CELLS`` cells from the
+    start and hands on to ``hand_on`` with the same arguments; without, it walks on to ``max_cells``.
+    A far walk under a force reports a hit with status 2 (:func:`lattice_walk`).  ``inline``: inlined
+    into its caller.
+    """
+    start = _force_start if force else _straight_start
+    exits = _force_exits if force else _straight_exits
+    next_face = _force_next if force else _straight_next
+    flight = _force_flight if force else _straight_flight
+    NEAR = hand_on is not None
+    HIT = 2 if force and not NEAR else 0
+    compile = functools.partial(jit, inline="always") if inline else jit
+
+    @compile
+    def walk(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2,
+             t_limit, extent_tol, max_cells, ceiling, d1, d2, t_in):
+        """``walk_hit``'s walk from cell ``(d1, d2)`` at ``t_in``; ``alpha(t) = a0 + a1 t + a2 t^2`` (and
+        ``beta``) the flight's lattice coordinates.  A tie of the exits steps both indices (a lattice point)."""
+        ta, sa = start(a0, a1, d1, t_in)
+        tb, sb = start(b0, b1, d2, t_in)
+        F = flight(x, y, vx, vy, ax, ay)
         k = 0
         while k < max_cells:
-            if max(abs(d1), abs(d2)) >= FAR_CELLS:  # a long flight goes on out of line, below (its indices never turn
-                break                               # back); a call in this loop cost the walk a third (Galton board)
+            # a long flight goes on out of line: a call in this loop cost the walk a third (Galton board)
+            if NEAR and max(abs(d1), abs(d2)) >= FAR_CELLS:
+                break
             k += 1
+            ta, sa, tb, sb = exits(a0, a1, a2, b0, b1, b2, d1, d2, t_in, ta, sa, tb, sb)
             t_out = min(ta, tb)
-            t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, 0.0, 0.0),
-                                       cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
+            t, e, o1, o2 = search(kinds, params, copies, A, d1, d2, F, cur_e, cur_o1, cur_o2, t_out, extent_tol,
+                                  t_in, True, ceiling)
             if e >= 0:
-                return t, e, o1, o2, 0
-            if t_out >= t_limit:
-                return INF, -1, 0, 0, 1
-            if ta == t_out:
-                d1 += s1
-                ta = _face_time(a0, a1, d1 + 0.5 * s1, t_out)
-            if tb == t_out:
-                d2 += s2
-                tb = _face_time(b0, b1, d2 + 0.5 * s2, t_out)
-            t_in = t_out
-        if k >= max_cells:
-            return INF, -1, 0, 0, 2
-        return _walk_straight_far(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, cur_e, cur_o1, cur_o2,
-                                  t_limit, extent_tol, max_cells - k, ceiling, s1, s2, d1, d2, t_in, ta, tb)
-
-    return _walk_straight
-
-
-
-def _straight_far_walk(far_hit_in_cell):
-    """:func:`walk_hit`'s walk without force past ``FAR_CELLS``, over the far cells' search ``far_hit_in_cell``."""
-    @jit  # not inlined: reached by few flights (as disks._disk_walk_far)
-    def _walk_straight_far(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, cur_e, cur_o1, cur_o2, t_limit,
-                           extent_tol, max_cells, ceiling, s1, s2, d1, d2, t_in, ta, tb):
-        """:func:`_walk_straight` from its cell ``(d1, d2)`` on, ``FAR_CELLS`` or more from the start:
-        each cell's copies by :func:`far_hit_in_cell`."""
-        for _ in range(max_cells):
-            t_out = min(ta, tb)
-            t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, 0.0, 0.0),
-                                           cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
-            if e >= 0:
-                return t, e, o1, o2, 0
-            if t_out >= t_limit:
-                return INF, -1, 0, 0, 1
-            if ta == t_out:
-                d1 += s1
-                ta = _face_time(a0, a1, d1 + 0.5 * s1, t_out)
-            if tb == t_out:
-                d2 += s2
-                tb = _face_time(b0, b1, d2 + 0.5 * s2, t_out)
-            t_in = t_out
-        return INF, -1, 0, 0, 2
-
-    return _walk_straight_far
-
-
-
-def _force_far_walk(hit_in_cell, far_hit_in_cell):
-    """:func:`walk_hit`'s walk under a force past ``FAR_CELLS``, over both cell searches."""
-    @jit  # not inlined: reached by few flights
-    def _walk_force_far(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2,
-                        t_limit, extent_tol, max_cells, ceiling, d1, d2, t_in):
-        """:func:`walk_hit`'s walk under a force from its cell ``(d1, d2)`` on, once it got ``FAR_CELLS`` or more
-        from the start: far cells' copies by :func:`far_hit_in_cell`, and the cells of a flight that turns back
-        within ``FAR_CELLS`` of its start by :func:`events.hit_in_cell`, as before it left.  A hit is
-        reported with status 2 and its finite time (the event loop approaches it with :func:`far_move`)."""
-        for _ in range(max_cells):
-            ta, sa = _strip_exit(a0, a1, a2, d1 - 0.5, d1 + 0.5, t_in)
-            tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
-            t_out = min(ta, tb)
-            if max(abs(d1), abs(d2)) < FAR_CELLS:
-                t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay),
-                                           cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
-                if e >= 0:
-                    return t, e, o1, o2, 2
-            else:
-                t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay),
-                                               cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
-                if e >= 0:
-                    return t, e, o1, o2, 2
+                return t, e, o1, o2, HIT
             if t_out >= t_limit:
                 return INF, -1, 0, 0, 1
             if ta == t_out:
                 d1 += sa
+                ta = next_face(a0, a1, d1, sa, t_out)
             if tb == t_out:
                 d2 += sb
+                tb = next_face(b0, b1, d2, sb, t_out)
             t_in = t_out
+        if NEAR and k < max_cells:
+            return hand_on(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, vy, ax, ay, cur_e, cur_o1,
+                           cur_o2, t_limit, extent_tol, max_cells - k, ceiling, d1, d2, t_in)
         return INF, -1, 0, 0, 2
 
-    return _walk_force_far
+    return walk
 
 
-
-def _walk(hit_in_cell, _walk_straight, _walk_force_far):
-    """:func:`lattice_walk`'s ``walk_hit`` from its cell search and the walks it hands on to."""
+def _walk(straight, force):
+    """:func:`lattice_walk`'s ``walk_hit`` over its walks without and with force."""
     @jit
     def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
                  cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling=INF):
@@ -213,37 +221,11 @@ def _walk(hit_in_cell, _walk_straight, _walk_force_far):
         a0, b0 = lattice_coordinates(B, x, y)
         a1, b1 = lattice_coordinates(B, vx, vy)
         if not has_force:
-            return _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
-                                  cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling)
+            return straight(kinds, params, copies, A, a0, a1, 0.0, b0, b1, 0.0, x, y, vx, vy, 0.0, 0.0,
+                            cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling, 0, 0, 0.0)
         a2, b2 = lattice_coordinates(B, ax, ay)
-        a2 *= 0.5
-        b2 *= 0.5
-        d1 = 0
-        d2 = 0
-        t_in = 0.0
-        k = 0
-        while k < max_cells:
-            if max(abs(d1), abs(d2)) >= FAR_CELLS:  # a long flight goes on out of line, below (a call in
-                break                               # this loop cost the Galton board a third of its speed)
-            k += 1
-            ta, sa = _strip_exit(a0, a1, a2, d1 - 0.5, d1 + 0.5, t_in)
-            tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
-            t_out = min(ta, tb)
-            t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay),
-                                       cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
-            if e >= 0:
-                return t, e, o1, o2, 0
-            if t_out >= t_limit:
-                return INF, -1, 0, 0, 1
-            if ta == t_out:
-                d1 += sa
-            if tb == t_out:
-                d2 += sb
-            t_in = t_out
-        if k >= max_cells:
-            return INF, -1, 0, 0, 2
-        return _walk_force_far(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, vy, ax, ay, cur_e,
-                               cur_o1, cur_o2, t_limit, extent_tol, max_cells - k, ceiling, d1, d2, t_in)
+        return force(kinds, params, copies, A, a0, a1, 0.5 * a2, b0, b1, 0.5 * b2, x, y, vx, vy, ax, ay,
+                     cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling, 0, 0, 0.0)
 
     return walk_hit
 
@@ -268,9 +250,12 @@ def lattice_walk(open_ends=True):
     """
     near_falling = cell_search(free_flight.falling, open_ends=open_ends)
     far_falling = cell_search(far_flight.falling, open_ends=open_ends)
-    straight = _straight_walk(cell_search(free_flight.straight, open_ends=open_ends),
-                              _straight_far_walk(cell_search(far_flight.straight, open_ends=open_ends)))
-    return _walk(near_falling, straight, _force_far_walk(near_falling, far_falling))
+    # a straight flight's indices never turn back: its far walk searches every cell far
+    straight = _cell_walk(False, cell_search(free_flight.straight, open_ends=open_ends),
+                          hand_on=_cell_walk(False, cell_search(far_flight.straight, open_ends=open_ends)))
+    force = _cell_walk(True, near_falling, hand_on=_cell_walk(True, _by_distance(near_falling, far_falling)),
+                       inline=True)
+    return _walk(straight, force)
 
 
 #: Free flight's lattice walk, the open-end rule compiled in.

@@ -122,6 +122,82 @@ def _line_disk_far(A, d1, d2, ex, ey, vx, vy, ivv, rr):
 
 
 @jit(inline="always")
+def _walk_start(A, B, x, y, vx, vy):
+    """``(vv, ivv, faces, steps, ta, tb)``: the cell walk of the straight flight from ``(x, y)`` at its start.
+
+    ``faces = (a0, b0, ia, ib, s1, s2)``: the flight's lattice coordinates at ``t = 0``, their reciprocal
+    rates and the directions of the steps; ``steps``: the change of an offset from a disk's centre per
+    step in each direction; ``ta, tb``: the first face times.
+    """
+    a0, b0 = lattice_coordinates(B, x, y)
+    a1, b1 = lattice_coordinates(B, vx, vy)
+    vv = vx * vx + vy * vy
+    s1 = 1 if a1 > 0.0 else -1
+    s2 = 1 if b1 > 0.0 else -1
+    ia = 1.0 / a1
+    ib = 1.0 / b1
+    ta = max((0.5 * s1 - a0) * ia, 0.0) if a1 != 0.0 else INF
+    tb = max((0.5 * s2 - b0) * ib, 0.0) if b1 != 0.0 else INF
+    steps = (s1 * A[0, 0], s1 * A[1, 0], s2 * A[0, 1], s2 * A[1, 1])
+    return vv, 1.0 / vv, (a0, b0, ia, ib, s1, s2), steps, ta, tb
+
+
+@jit(inline="always")
+def _cross(t_out, d1, d2, dx, dy, ta, tb, faces, steps):
+    """``(d1, d2, dx, dy, ta, tb)`` past the faces crossed at ``t_out``: the offset ``d`` one lattice vector on."""
+    a0, b0, ia, ib, s1, s2 = faces
+    ux, uy, wx, wy = steps
+    if ta == t_out:
+        d1 += s1
+        dx -= ux
+        dy -= uy
+        ta = max((d1 + 0.5 * s1 - a0) * ia, t_out)
+    if tb == t_out:
+        d2 += s2
+        dx -= wx
+        dy -= wy
+        tb = max((d2 + 0.5 * s2 - b0) * ib, t_out)
+    return d1, d2, dx, dy, ta, tb
+
+
+def _compile_walk(near):
+    """A near walk is inlined into its loop; a far walk, reached by few flights, is not (inlined, its code cost
+    the near walk 3 %: benchmarks/RESULTS.md)."""
+    return functools.partial(jit, inline="always") if near else jit
+
+
+def _disk_walk(hand_on=None):
+    """:func:`disk_walk`'s walk from its cell ``(d1, d2)`` on: with ``hand_on`` (near) along ``INCREMENTAL_CELLS``
+    cells by :func:`_line_disk`, then on in ``hand_on``; without (far) by :func:`_line_disk_far`."""
+    NEAR = hand_on is not None
+
+    @_compile_walk(NEAR)
+    def walk(A, ex, ey, dx, dy, vx, vy, ivv, rr, d1, d2, faces, steps, ta, tb, cur_o1, cur_o2, t_limit, max_cells):
+        """The walk; ``e``: the start seen from the disk of cell 0, ``d``: the offset in cell ``(d1, d2)``."""
+        for _ in range(min(max_cells, INCREMENTAL_CELLS) if NEAR else max_cells):
+            if not (d1 == cur_o1 and d2 == cur_o2):
+                if NEAR:
+                    t, hx, hy = _line_disk(dx, dy, vx, vy, ivv, rr)
+                else:
+                    t, hx, hy = _line_disk_far(A, d1, d2, ex, ey, vx, vy, ivv, rr)
+                if t < INF:
+                    return t, d1, d2, hx, hy, 0
+            t_out = min(ta, tb)
+            if t_out >= t_limit:
+                return INF, 0, 0, 0.0, 0.0, 1
+            d1, d2, dx, dy, ta, tb = _cross(t_out, d1, d2, dx, dy, ta, tb, faces, steps)
+        if NEAR:  # a long flight goes on out of line: the near walk, the common case, stays as short
+            return hand_on(A, ex, ey, dx, dy, vx, vy, ivv, rr, d1, d2, faces, steps, ta, tb, cur_o1, cur_o2,
+                           t_limit, max_cells - INCREMENTAL_CELLS)
+        return INF, 0, 0, 0.0, 0.0, 2
+
+    return walk
+
+
+_disk_walk_near = _disk_walk(hand_on=_disk_walk())
+
+
+@jit(inline="always")
 def disk_walk(p, A, B, x, y, vx, vy, cur_o1, cur_o2, t_limit, max_cells):
     """First disk hit of the straight flight from ``(x, y)`` (relative to cell 0); one disk ``p`` per cell.
 
@@ -138,75 +214,69 @@ def disk_walk(p, A, B, x, y, vx, vy, cur_o1, cur_o2, t_limit, max_cells):
     relative to the centre, and ``status`` as in :func:`cells.walk_hit`
     (0 hit, 1 past ``t_limit``, 2 past ``max_cells``).
     """
-    a0, b0 = lattice_coordinates(B, x, y)
-    a1, b1 = lattice_coordinates(B, vx, vy)
-    vv = vx * vx + vy * vy
-    ivv = 1.0 / vv
-    s1 = 1 if a1 > 0.0 else -1
-    s2 = 1 if b1 > 0.0 else -1
-    ia = 1.0 / a1
-    ib = 1.0 / b1
-    ta = max((0.5 * s1 - a0) * ia, 0.0) if a1 != 0.0 else INF
-    tb = max((0.5 * s2 - b0) * ib, 0.0) if b1 != 0.0 else INF
+    vv, ivv, faces, steps, ta, tb = _walk_start(A, B, x, y, vx, vy)
     r = p[2]
-    rr = vv * (r * r)
-    ux = s1 * A[0, 0]
-    uy = s1 * A[1, 0]
-    wx = s2 * A[0, 1]
-    wy = s2 * A[1, 1]
     ex = x - p[0]
     ey = y - p[1]
-    dx = ex
-    dy = ey
-    d1 = 0
-    d2 = 0
-    for _ in range(min(max_cells, INCREMENTAL_CELLS)):
-        if not (d1 == cur_o1 and d2 == cur_o2):
-            t, hx, hy = _line_disk(dx, dy, vx, vy, ivv, rr)
-            if t < INF:
-                return t, d1, d2, hx, hy, 0
-        t_out = min(ta, tb)
-        if t_out >= t_limit:
-            return INF, 0, 0, 0.0, 0.0, 1
-        if ta == t_out:
-            d1 += s1
-            dx -= ux
-            dy -= uy
-            ta = max((d1 + 0.5 * s1 - a0) * ia, t_out)
-        if tb == t_out:
-            d2 += s2
-            dx -= wx
-            dy -= wy
-            tb = max((d2 + 0.5 * s2 - b0) * ib, t_out)
-    # a flight past INCREMENTAL_CELLS cells goes on out of line: the walk above, the common case, stays as short
-    return _disk_walk_far(A, ex, ey, vx, vy, ivv, rr, d1, d2, s1, s2, a0, b0, ia, ib, ta, tb, cur_o1, cur_o2,
-                          t_limit, max_cells - INCREMENTAL_CELLS)
+    return _disk_walk_near(A, ex, ey, ex, ey, vx, vy, ivv, vv * (r * r), 0, 0, faces, steps, ta, tb, cur_o1, cur_o2,
+                           t_limit, max_cells)
 
 
-@jit  # not inlined: reached by few flights, and inlined its code cost the walk above 3 % (benchmarks/RESULTS.md)
-def _disk_walk_far(A, ex, ey, vx, vy, ivv, rr, d1, d2, s1, s2, a0, b0, ia, ib, ta, tb, cur_o1, cur_o2, t_limit,
-                   max_cells):
-    """:func:`disk_walk` from its cell ``(d1, d2)`` on, past ``INCREMENTAL_CELLS``: each disk by :func:`_line_disk_far`.
+@jit(inline="always")
+def _copy_near(A, p, o1, o2, d1, d2, x, y, dx, dy, vx, vy, ivv, rr):
+    """:func:`_line_disk` for the copy of disk ``p`` ``(o1, o2)`` cells from walk cell ``(d1, d2)``, from ``d``."""
+    ex = dx - p[0]
+    ey = dy - p[1]
+    if o1 != 0 or o2 != 0:
+        sx, sy = lattice_shift(A, o1, o2)
+        ex -= sx
+        ey -= sy
+    return _line_disk(ex, ey, vx, vy, ivv, rr)
 
-    The same walk as :func:`disk_walk`'s, written out again rather than
-    shared, so that the common walk compiles as it did before the far cells
-    were made exact.
-    """
-    for _ in range(max_cells):
-        if not (d1 == cur_o1 and d2 == cur_o2):
-            t, hx, hy = _line_disk_far(A, d1, d2, ex, ey, vx, vy, ivv, rr)
-            if t < INF:
-                return t, d1, d2, hx, hy, 0
-        t_out = min(ta, tb)
-        if t_out >= t_limit:
-            return INF, 0, 0, 0.0, 0.0, 1
-        if ta == t_out:
-            d1 += s1
-            ta = max((d1 + 0.5 * s1 - a0) * ia, t_out)
-        if tb == t_out:
-            d2 += s2
-            tb = max((d2 + 0.5 * s2 - b0) * ib, t_out)
-    return INF, 0, 0, 0.0, 0.0, 2
+
+@jit(inline="always")
+def _copy_far(A, p, o1, o2, d1, d2, x, y, dx, dy, vx, vy, ivv, rr):
+    """:func:`_line_disk_far` for the copy of disk ``p`` ``(o1, o2)`` cells from walk cell ``(d1, d2)``."""
+    return _line_disk_far(A, d1 + o1, d2 + o2, x - p[0], y - p[1], vx, vy, ivv, rr)
+
+
+def _disks_walk(hand_on=None):
+    """:func:`disks_walk`'s walk from its cell ``(d1, d2)`` on: with ``hand_on`` (near) along ``INCREMENTAL_CELLS``
+    cells by :func:`_copy_near`, then on in ``hand_on``; without (far) by :func:`_copy_far`."""
+    NEAR = hand_on is not None
+    test = _copy_near if NEAR else _copy_far
+
+    @_compile_walk(NEAR)
+    def walk(params, copies, inside, A, x, y, dx, dy, vx, vy, vv, ivv, cur_e, cur_o1, cur_o2, d1, d2, faces, steps,
+             ta, tb, found, t_limit, max_cells):
+        """The walk; ``found = (t, j, o1, o2, hx, hy)``: the earliest hit so far (``t = inf``: none)."""
+        best, bj, b1_, b2_, bx, by = found
+        for _ in range(min(max_cells, INCREMENTAL_CELLS) if NEAR else max_cells):
+            for j in range(copies.shape[0]):
+                e = copies[j, 0]
+                o1 = copies[j, 1]
+                o2 = copies[j, 2]
+                if e == cur_e and d1 + o1 == cur_o1 and d2 + o2 == cur_o2:
+                    continue
+                p = params[e]
+                t, hx, hy = test(A, p, o1, o2, d1, d2, x, y, dx, dy, vx, vy, ivv, vv * (p[2] * p[2]))
+                if t < best:
+                    best, bj, b1_, b2_, bx, by = t, j, d1, d2, hx, hy
+            t_out = min(ta, tb)
+            if best <= t_out or (inside and best < INF):
+                return best, b1_, b2_, bj, bx, by, 0
+            if t_out >= t_limit:
+                return INF, 0, 0, -1, 0.0, 0.0, 1
+            d1, d2, dx, dy, ta, tb = _cross(t_out, d1, d2, dx, dy, ta, tb, faces, steps)
+        if NEAR:  # a long flight goes on out of line, as in disk_walk
+            return hand_on(params, copies, inside, A, x, y, dx, dy, vx, vy, vv, ivv, cur_e, cur_o1, cur_o2, d1, d2,
+                           faces, steps, ta, tb, (best, bj, b1_, b2_, bx, by), t_limit, max_cells - INCREMENTAL_CELLS)
+        return INF, 0, 0, -1, 0.0, 0.0, 2
+
+    return walk
+
+
+_disks_walk_near = _disks_walk(hand_on=_disks_walk())
 
 
 @jit(inline="always")
@@ -234,113 +304,9 @@ def disks_walk(params, copies, inside, A, B, x, y, vx, vy, cur_e, cur_o1, cur_o2
     ``status`` as in :func:`cells.walk_hit` (0 hit, 1 past ``t_limit``, 2 past
     ``max_cells``).
     """
-    a0, b0 = lattice_coordinates(B, x, y)
-    a1, b1 = lattice_coordinates(B, vx, vy)
-    vv = vx * vx + vy * vy
-    ivv = 1.0 / vv
-    s1 = 1 if a1 > 0.0 else -1
-    s2 = 1 if b1 > 0.0 else -1
-    ia = 1.0 / a1
-    ib = 1.0 / b1
-    ta = max((0.5 * s1 - a0) * ia, 0.0) if a1 != 0.0 else INF
-    tb = max((0.5 * s2 - b0) * ib, 0.0) if b1 != 0.0 else INF
-    ux = s1 * A[0, 0]
-    uy = s1 * A[1, 0]
-    wx = s2 * A[0, 1]
-    wy = s2 * A[1, 1]
-    dx = x
-    dy = y
-    d1 = 0
-    d2 = 0
-    best = INF
-    bj = -1
-    b1_ = 0
-    b2_ = 0
-    bx = 0.0
-    by = 0.0
-    for _ in range(min(max_cells, INCREMENTAL_CELLS)):
-        for j in range(copies.shape[0]):
-            e = copies[j, 0]
-            o1 = copies[j, 1]
-            o2 = copies[j, 2]
-            if e == cur_e and d1 + o1 == cur_o1 and d2 + o2 == cur_o2:
-                continue
-            p = params[e]
-            rr = vv * (p[2] * p[2])
-            ex = dx - p[0]
-            ey = dy - p[1]
-            if o1 != 0 or o2 != 0:
-                sx, sy = lattice_shift(A, o1, o2)
-                ex -= sx
-                ey -= sy
-            t, hx, hy = _line_disk(ex, ey, vx, vy, ivv, rr)
-            if t < best:
-                best = t
-                bj = j
-                b1_ = d1
-                b2_ = d2
-                bx = hx
-                by = hy
-        t_out = min(ta, tb)
-        if best <= t_out or (inside and best < INF):
-            return best, b1_, b2_, bj, bx, by, 0
-        if t_out >= t_limit:
-            return INF, 0, 0, -1, 0.0, 0.0, 1
-        if ta == t_out:
-            d1 += s1
-            dx -= ux
-            dy -= uy
-            ta = max((d1 + 0.5 * s1 - a0) * ia, t_out)
-        if tb == t_out:
-            d2 += s2
-            dx -= wx
-            dy -= wy
-            tb = max((d2 + 0.5 * s2 - b0) * ib, t_out)
-    # a flight past INCREMENTAL_CELLS cells goes on out of line, as in disk_walk
-    return _disks_walk_far(params, copies, inside, A, x, y, vx, vy, vv, ivv, cur_e, cur_o1, cur_o2, d1, d2, s1, s2,
-                           a0, b0, ia, ib, ta, tb, best, bj, b1_, b2_, bx, by, t_limit, max_cells - INCREMENTAL_CELLS)
-
-
-@jit  # not inlined, as _disk_walk_far
-def _disks_walk_far(params, copies, inside, A, x, y, vx, vy, vv, ivv, cur_e, cur_o1, cur_o2, d1, d2, s1, s2, a0, b0,
-                    ia, ib, ta, tb, best, bj, b1_, b2_, bx, by, t_limit, max_cells):
-    """:func:`disks_walk` from its cell ``(d1, d2)`` on, past ``INCREMENTAL_CELLS``: each copy by
-    :func:`_line_disk_far`.
-
-    The same walk and earliest-hit rule as :func:`disks_walk`, written out
-    again rather than shared: out of the common walk, this code no longer
-    costs the flights that never get here (2 to 9 % faster on two- and
-    five-disk cells, ``benchmarks/RESULTS.md``).
-    """
-    for _ in range(max_cells):
-        for j in range(copies.shape[0]):
-            e = copies[j, 0]
-            o1 = copies[j, 1]
-            o2 = copies[j, 2]
-            if e == cur_e and d1 + o1 == cur_o1 and d2 + o2 == cur_o2:
-                continue
-            p = params[e]
-            # the copy's centre is d + o cells away: offset and hit point by _line_disk_far
-            t, hx, hy = _line_disk_far(A, d1 + o1, d2 + o2, x - p[0], y - p[1], vx, vy, ivv, vv * (p[2] * p[2]))
-            if t < best:
-                best = t
-                bj = j
-                b1_ = d1
-                b2_ = d2
-                bx = hx
-                by = hy
-        t_out = min(ta, tb)
-        if best <= t_out or (inside and best < INF):
-            return best, b1_, b2_, bj, bx, by, 0
-        if t_out >= t_limit:
-            return INF, 0, 0, -1, 0.0, 0.0, 1
-        if ta == t_out:
-            d1 += s1
-            ta = max((d1 + 0.5 * s1 - a0) * ia, t_out)
-        if tb == t_out:
-            d2 += s2
-            tb = max((d2 + 0.5 * s2 - b0) * ib, t_out)
-    return INF, 0, 0, -1, 0.0, 0.0, 2
+    vv, ivv, faces, steps, ta, tb = _walk_start(A, B, x, y, vx, vy)
+    return _disks_walk_near(params, copies, inside, A, x, y, x, y, vx, vy, vv, ivv, cur_e, cur_o1, cur_o2, 0, 0,
+                            faces, steps, ta, tb, (INF, -1, 0, 0, 0.0, 0.0), t_limit, max_cells)
 
 
 @jit(inline="always")  # inlined, as every step of the loop below: they sit on its chain of dependent arithmetic
