@@ -1,45 +1,17 @@
 """The event loop of disk scatterers on a lattice without force (Sinai torus, Lorentz gases).
 
-Such a scene needs far less than the general loop (:mod:`loop`): flights are
-straight and the obstacles are convex disks that never touch, so the disk just
-hit is not met on the next flight (no deflation), there is no corner rule, a
-collision never slides off (no grazing stop), and there are no extents to
-test.  The test and the collision take no ``hypot``, projection or division
-after the hit point is known (the chain of dependent operations from one
-collision to the next is what limits the speed):
-
-* hit: with ``d = q - c`` and ``b = d . v``, the flight meets the disk iff
-  ``b < 0`` and ``disc = |v|^2 r^2 - (d x v)^2 > 0`` (Lagrange's identity:
-  ``disc = b^2 - |v|^2 (|d|^2 - r^2)``; the cross product keeps a long
-  flight's grazing test at full precision); the time is
-  ``(-b - sqrt(disc)) / |v|^2`` (no cancellation: both terms are positive) and
-  the hit point relative to the centre is ``h = d + v t``;
-* ``h`` lies on the circle to rounding (as a projected point does), so
-  ``|h|^2 = r^2 (1 + delta)`` with ``delta`` of a few ulps, and ``1/|h|^2`` and
-  ``h/|h|`` are one Newton step from ``1/r^2`` and ``h/r``, accurate to
-  ``delta^2`` (a division when ``delta`` is not small, see ``NEWTON_DELTA``);
-  the normal's step is taken with fused multiply-adds (:func:`exact.fma`), so
-  its correction is not rounded away at 1 (that biased the energy by
-  -1e-16 per no-slip collision at r = 0.3; docs/algorithm.md section 0);
-* specular: ``v' = v - 2 (v . h) h / |h|^2``, the reflection in the line
-  through ``h``; no-slip: :func:`laws.collide` with ``n = -h/|h|``.
-
-Two walks.  One disk inside its cell (the Sinai torus, the Lorentz gas up to
-``r`` = half the cell's width: :attr:`KernelTable.one_disk_per_cell`):
-:func:`disk_walk` tests that disk in each cell and the first hit is the
-earliest.  Several disks per cell, or disks reaching into neighbouring cells
-(:attr:`KernelTable.disk_lattice`): :func:`disks_walk` tests every copy
-that reaches a cell and takes the earliest hit once it comes before the
-cell's exit (a hit on a copy from a neighbouring cell may lie beyond it; the
-hit point is then re-based onto the cell that holds it).
-
-A tangent flight (``disc = 0``) is no hit, as in the general loop.  The
-results differ from the general loop's in the last bits (the other variants
-of :func:`loop.orbit_kernel` are identical to it bit for bit): every flight
-agrees to rounding, stops and records included (``tests/test_disk_lattice.py``,
-``tests/test_disk_cells.py``).  Measured: about twice the general loop's speed
-on the Sinai torus, 1.9 to 3 times on two- and five-disk cells
-(``benchmarks/results/ablation.md``).
+Flights are straight and the disks convex and apart, so this loop drops what the general one
+(:mod:`loop`) needs for other scenes: deflation, the corner rule, the grazing stop, extents.
+With ``d = q - c`` and ``b = d . v`` a flight meets the disk iff ``b < 0`` and
+``disc = |v|^2 r^2 - (d x v)^2 > 0`` (Lagrange's identity, ``disc = b^2 - |v|^2 (|d|^2 - r^2)``: the
+cross product keeps a long flight's grazing test precise; tangent, ``disc = 0``, is no hit), at
+``t = (-b - sqrt(disc)) / |v|^2`` (no cancellation), on ``h = d + v t`` from the centre.  ``h`` lies
+on the circle to rounding, so ``1/|h|^2`` and ``h/|h|`` are one Newton step from ``1/r^2`` and
+``h/r`` (:data:`NEWTON_DELTA`, :func:`_disk_normal`): after the hit point no division or square root
+lengthens the chain of dependent operations that limits the speed.  Specular:
+``v' = v - 2 (v . h) h / |h|^2``; no-slip: :func:`laws.collide` with ``n = -h/|h|``.  The results
+agree with the general loop's to rounding, not bit for bit.  :func:`disk_walk` walks one disk inside
+its cell, :func:`disks_walk` any disks (docs/algorithm.md, *One disk per cell: the lean loop*).
 """
 import functools
 import math
@@ -77,9 +49,8 @@ NO_CELL = MAX_CELLS_PER_FLIGHT + 1
 NEWTON_DELTA = 1e-8
 
 
-#: Cells a flight walks with the disk offset updated by one lattice vector per
-#: step; later cells test their disk with :func:`_line_disk_far`, whose hit
-#: point does not lose digits with the distance walked.
+#: Cells a flight walks with the disk offset updated by one lattice vector per step; later cells
+#: test their disks with :func:`_line_disk_far`, whose hit point keeps its digits however far.
 INCREMENTAL_CELLS = 16
 
 
@@ -99,14 +70,10 @@ def _line_disk(dx, dy, vx, vy, ivv, rr):
 def _line_disk_far(A, d1, d2, ex, ey, vx, vy, ivv, rr):
     """:func:`_line_disk` for the disk of a far cell ``(d1, d2)``; ``e`` is the start seen from the disk of cell 0.
 
-    ``d = e - (d1 a1 + d2 a2)`` is as long as the flight, so ``h = d + v t``
-    would carry ``eps |d|``.  Here ``d`` is formed exactly
-    (:func:`exact.lattice_shift_dd`), the cross product ``d x v`` (the
-    flight's distance from the centre times ``|v|``) to a few ulps of itself
-    (:func:`exact.cross_dd`), and the hit point without ``t``: ``h`` is the
-    foot of the perpendicular, ``(d x v) (vy, -vx) / |v|^2``, stepped back
-    along the flight by ``sqrt(disc) / |v|^2``.  Its error is a few ulps of
-    ``r``, however far the flight went; the time keeps a few ulps of itself.
+    ``d = e - (d1 a1 + d2 a2)`` is as long as the flight (``h = d + v t`` would carry ``eps |d|``):
+    it is formed exactly (:func:`exact.lattice_shift_dd`), ``d x v`` to a few ulps of itself
+    (:func:`exact.cross_dd`), and ``h = ((d x v) (vy, -vx) - sqrt(disc) v) / |v|^2``, the foot of the
+    perpendicular stepped back, without ``t``: a few ulps of ``r`` however far the flight went.
     """
     sxh, sxl, syh, syl = lattice_shift_dd(A, d1, d2)
     dxh, dxl = offset_dd(ex, sxh, sxl)
@@ -201,18 +168,13 @@ _disk_walk_near = _disk_walk(hand_on=_disk_walk())
 def disk_walk(p, A, B, x, y, vx, vy, cur_o1, cur_o2, t_limit, max_cells):
     """First disk hit of the straight flight from ``(x, y)`` (relative to cell 0); one disk ``p`` per cell.
 
-    Walks the cells as :func:`cells.walk_hit` does (face times from the
-    flight's start, here times the reciprocal rate) and tests the disk of
-    each cell but the one just hit (in cell ``(cur_o1, cur_o2)``); the disk
-    lies inside its cell, so the first hit found is the earliest.  Along the
-    first ``INCREMENTAL_CELLS`` cells the offset ``d`` from the disk's centre
-    is updated by one lattice vector per step (each step rounds once); later
-    cells use :func:`_line_disk_far` (exact offset, compensated cross
-    product), so the hit point's error does not grow with the flight.
+    Walks the cells as :func:`cells.walk_hit` does and tests the disk of each cell but the one
+    just hit (in cell ``(cur_o1, cur_o2)``); the disk lies inside its cell, so the first hit found
+    is the earliest.  The offset ``d`` from the disk's centre steps by one lattice vector per cell
+    along ``INCREMENTAL_CELLS`` cells (each step rounds once), later cells use :func:`_line_disk_far`.
 
-    Returns ``(t, o1, o2, hx, hy, status)``: the hit cell, the hit point
-    relative to the centre, and ``status`` as in :func:`cells.walk_hit`
-    (0 hit, 1 past ``t_limit``, 2 past ``max_cells``).
+    Returns ``(t, o1, o2, hx, hy, status)``: the hit cell, the hit point relative to the centre,
+    and ``status`` as in :func:`cells.walk_hit` (0 hit, 1 past ``t_limit``, 2 past ``max_cells``).
     """
     vv, ivv, faces, steps, ta, tb = _walk_start(A, B, x, y, vx, vy)
     r = p[2]
@@ -283,26 +245,15 @@ _disks_walk_near = _disks_walk(hand_on=_disks_walk())
 def disks_walk(params, copies, inside, A, B, x, y, vx, vy, cur_e, cur_o1, cur_o2, t_limit, max_cells):
     """First disk hit of the straight flight from ``(x, y)`` (relative to cell 0).
 
-    Walks the cells as :func:`cells.walk_hit` does (face times from the
-    flight's start, here times the reciprocal rate) and tests in each cell the
-    disk copies that reach it (``copies``: element ``e`` of ``params``
-    translated by ``o1 a1 + o2 a2``) but the one just hit (element
-    ``cur_e`` of cell ``(cur_o1, cur_o2)``: a straight flight leaving a convex
-    disk does not meet it again).  The earliest hit of a cell is the hit as
-    soon as it comes before the cell's exit: any earlier hit lies in a cell
-    already walked, where the same copy was tested.  When every disk lies
-    inside its cell (``inside``) every hit found comes before the exit, and
-    the earliest of the first cell with a hit is taken at once.  Along the first
-    ``INCREMENTAL_CELLS`` cells the offset ``d`` from the cell's centre is
-    updated by one lattice vector per step (each step rounds once); later
-    cells test their copies with :func:`_line_disk_far` (exact offset,
-    compensated cross product), so the hit point's error does not grow with
-    the flight, as in :func:`disk_walk`.
+    Tests in each cell the disk copies that reach it (``copies``: element ``e`` of ``params``
+    translated by ``o1 a1 + o2 a2``) but the one just hit (element ``cur_e`` of cell
+    ``(cur_o1, cur_o2)``: a straight flight leaving a convex disk does not meet it again), and takes
+    the earliest hit so far once it comes before the cell's exit (any earlier hit lies in a cell
+    already walked), or at once when every disk lies inside its cell (``inside``).  The offset ``d``
+    from the cell's centre as in :func:`disk_walk`.
 
-    Returns ``(t, o1, o2, j, hx, hy, status)``: the walk cell where the hit was
-    found, the copy ``j`` hit, the hit point relative to the copy's centre, and
-    ``status`` as in :func:`cells.walk_hit` (0 hit, 1 past ``t_limit``, 2 past
-    ``max_cells``).
+    Returns ``(t, o1, o2, j, hx, hy, status)``: the walk cell where the hit was found, the copy ``j``
+    hit, the hit point relative to the copy's centre, and ``status`` as in :func:`cells.walk_hit`.
     """
     vv, ivv, faces, steps, ta, tb = _walk_start(A, B, x, y, vx, vy)
     return _disks_walk_near(params, copies, inside, A, x, y, x, y, vx, vy, vv, ivv, cur_e, cur_o1, cur_o2, 0, 0,
@@ -399,13 +350,11 @@ def _record_disk_hit(mode, rec, n_rec, mask, A, m1, m2, cur_o1, cur_o2, t, x, y,
 def disk_lattice_kernel(spin=None, mode=None):
     """The event loop for disk scatterers on a lattice without force, with :func:`loop.run_orbit`'s signature.
 
-    ``spin`` and ``mode`` are compile-time flags as in :func:`loop.orbit_kernel`
-    (``None``: read the law or the record mode from the arguments).  Only
-    for scenes with :attr:`KernelTable.disk_lattice` (disjoint disks);
-    the force, ``kinds``, ``lattice`` and junction arguments are ignored.  A
-    scene of one copy with no shift (one disk inside its cell) runs a loop
-    compiled around :func:`disk_walk`, any other one around :func:`disks_walk`
-    (chosen once per orbit, so the one-disk loop carries no test for the other).
+    ``spin`` and ``mode`` are compile-time flags as in :func:`loop.orbit_kernel` (``None``: read from
+    the arguments).  Only for scenes with :attr:`KernelTable.disk_lattice` (disjoint disks); the
+    force, ``kinds``, ``lattice`` and junction arguments are ignored.  One copy with no shift (one
+    disk inside its cell) runs a loop compiled around :func:`disk_walk`, any other scene one around
+    :func:`disks_walk`, chosen once per orbit (so the one-disk loop carries no test for the other).
     """
     one_disk = _disk_loop(spin, mode, True)
     several = _disk_loop(spin, mode, False)
