@@ -1,20 +1,15 @@
 """Periodic lattices: walk the cells a flight crosses until a hit comes before the exit.
 
 Cell ``(d1, d2)`` is the parallelogram ``{alpha a1 + beta a2 : |alpha - d1|, |beta - d2| <= 1/2}``
-(centred cells: an obstacle at the origin lies inside cell 0).  Positions are
-kept relative to the particle's current cell, so their precision is that of the
-cell size however far an orbit diffuses.  For each cell the walk tests only the
-element copies that reach it (precomputed, ``copies``) with the time window
-capped at the cell's exit time; a hit found there is the earliest, because any
-earlier hit lies in an earlier cell, where the same copy was tested.  Infinite
-horizon corridors cost one cell per step and miss nothing.
-
-Without a force the lattice coordinates are linear in time, and the walk is
-an incremental grid traversal (Amanatides & Woo 1987): each face time comes
-from the flight's start in one division, with no square root and no error
-that grows with the cells walked.  The search windows of successive cells
-share their end points, so no time is left out whatever the rounding of the
-face times.
+(centred cells: an obstacle at the origin lies inside cell 0).  Positions are kept relative to
+the particle's current cell, so their precision is that of the cell size however far an orbit
+diffuses.  Each cell tests only the element copies that reach it (``copies``), its window capped
+at the cell's exit: a hit found there is the earliest, as any earlier hit lies in an earlier cell,
+where the same copy was tested; infinite-horizon corridors cost one cell per step.  Without a
+force the walk is an incremental grid traversal (Amanatides & Woo 1987): each face time from the
+flight's start, in one division.  Successive windows share their end points, so no time is left
+out.  Cells ``FAR_CELLS`` or more from the start are searched on the flight re-centred exactly
+there (docs/algorithm.md, *Lattices*).
 """
 import functools
 import math
@@ -31,20 +26,15 @@ from .search import cell_search
 INF = math.inf
 
 #: The walk tests the copies of a cell this many cells (or more) from the flight's start on the
-#: flight re-centred exactly (:func:`far_hit_in_cell`), and a straight flight's hit found there is
+#: flight re-centred exactly (:mod:`far_flight`), and a straight flight's hit found there is
 #: relocated by :func:`far_hit_point`; nearer cells and hits keep the plain evaluation, bit for bit.
-#: Under a force the walk reports a hit found after it got this far with the escape's status (2)
-#: and a finite time; the event loop leaves its collision loop as for an escape and, in its block
-#: loop, moves the flight's start exactly to within :data:`NEAR_CELLS` of the hit (:func:`far_move`),
-#: from where the walk finds the hit near.  Nothing of it is in the collision loop: a call there,
-#: even never taken, cost the Galton board 30 %, a branch of its own 15-20 % (benchmarks/RESULTS.md).
+#: Under a force such a hit is reported with the escape's status (2) and its finite time, and the
+#: event loop moves the flight's start to within :data:`NEAR_CELLS` of it (:func:`far_move`), out of
+#: the collision loop (measured: benchmarks/RESULTS.md).
 FAR_CELLS = 16
-#: :func:`far_move` puts a flight's start this many lattice units before its far hit (in each lattice
-#: coordinate, at most): the walk then finds the hit in the start's cell or the next, from a start
-#: formed at the scale of the hit point's coordinates in that cell, and the hit is as precise as a
-#: near one (tests/test_far_force.py: velocity within 0.019 of its conditioning tolerance at 0.05,
-#: 0.07 at 0.2, 0.64 at 1: the start's rounding grows with its coordinates, the plain flight with
-#: its length).
+#: :func:`far_move` puts a flight's start this many lattice units (at most, in each coordinate) before
+#: its far hit: the walk then finds the hit in the start's cell or the next, as precise as a near hit
+#: (the precision against this choice: docs/algorithm.md, *Lattices*; tests/test_far_force.py).
 NEAR_CELLS = 0.05
 
 
@@ -63,11 +53,9 @@ def _boundary_exit(g, rate, curv):
 def _strip_exit(alpha0, alpha1, alpha2, lo, hi, t_in):
     """First time ``>= t_in`` at which ``alpha(t) = alpha0 + alpha1 t + alpha2 t^2`` leaves ``[lo, hi]``.
 
-    The polynomial is re-centred at ``t_in``.  Returns ``(t, step)`` with
-    ``step = +1`` through ``hi``, ``-1`` through ``lo``, or ``(inf, 0)``.
-    The side ``alpha`` moves towards (or, at rest, curves towards) is solved
-    first: a finite exit there comes before any exit through the other side,
-    which needs the motion to turn back, so one square root usually suffices.
+    Returns ``(t, step)``: ``step = +1`` through ``hi``, ``-1`` through ``lo``, or ``(inf, 0)``.
+    The side ``alpha`` moves (or, at rest, curves) towards is solved first: its finite exit
+    comes first, so one square root usually suffices.
     """
     al = alpha0 + t_in * (alpha1 + alpha2 * t_in)
     rate = alpha1 + 2.0 * alpha2 * t_in
@@ -92,8 +80,70 @@ def _face_time(alpha0, alpha1, face, t_in):
     return max((face - alpha0) / alpha1, t_in)
 
 
+def _by_distance(hit_in_cell, far_hit_in_cell):
+    """A cell search by ``far_hit_in_cell`` from ``FAR_CELLS`` cells on, by ``hit_in_cell`` nearer (a flight under
+    a force may turn back)."""
+    @jit(inline="always")
+    def search(kinds, params, copies, A, d1, d2, F, cur_e, cur_o1, cur_o2, hi, extent_tol, t_in, shifted, ceiling):
+        """``hit_in_cell``'s call, by the search that fits the cell's distance from the start."""
+        if max(abs(d1), abs(d2)) < FAR_CELLS:
+            return hit_in_cell(kinds, params, copies, A, d1, d2, F, cur_e, cur_o1, cur_o2, hi, extent_tol, t_in,
+                               shifted, ceiling)
+        return far_hit_in_cell(kinds, params, copies, A, d1, d2, F, cur_e, cur_o1, cur_o2, hi, extent_tol, t_in,
+                               shifted, ceiling)
+
+    return search
+
+
+def _force_walk(search, hand_on=None):
+    """:func:`walk_hit`'s walk under a force from cell ``(d1, d2)`` at ``t_in``, each cell by ``search``.
+
+    With ``hand_on`` (the near walk, inlined into :func:`walk_hit`) it stops ``FAR_CELLS`` cells from
+    the start and hands on to ``hand_on`` with the same arguments; without (the far walk, out of line)
+    it walks on to ``max_cells`` and reports a hit with status 2 (:func:`lattice_walk`).
+    """
+    NEAR = hand_on is not None
+    HIT = 0 if NEAR else 2
+    compile = functools.partial(jit, inline="always") if NEAR else jit
+
+    @compile
+    def walk(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2,
+             t_limit, extent_tol, max_cells, ceiling, d1, d2, t_in):
+        """The walk; ``alpha(t) = a0 + a1 t + a2 t^2`` and ``beta(t)`` are the flight's lattice coordinates."""
+        k = 0
+        while k < max_cells:
+            # a long flight goes on out of line: a call in this loop cost the walk a third (Galton board)
+            if NEAR and max(abs(d1), abs(d2)) >= FAR_CELLS:
+                break
+            k += 1
+            ta, sa = _strip_exit(a0, a1, a2, d1 - 0.5, d1 + 0.5, t_in)
+            tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
+            t_out = min(ta, tb)
+            t, e, o1, o2 = search(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay), cur_e, cur_o1, cur_o2,
+                                  t_out, extent_tol, t_in, True, ceiling)
+            if e >= 0:
+                return t, e, o1, o2, HIT
+            if t_out >= t_limit:
+                return INF, -1, 0, 0, 1
+            if ta == t_out:
+                d1 += sa
+            if tb == t_out:
+                d2 += sb
+            t_in = t_out
+        if NEAR and k < max_cells:
+            return hand_on(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, vy, ax, ay, cur_e, cur_o1,
+                           cur_o2, t_limit, extent_tol, max_cells - k, ceiling, d1, d2, t_in)
+        return INF, -1, 0, 0, 2
+
+    return walk
+
+
 def _straight_walk(hit_in_cell, _walk_straight_far):
-    """:func:`walk_hit`'s walk without force over the cell search ``hit_in_cell``, on to ``_walk_straight_far``."""
+    """:func:`walk_hit`'s walk without force over the cell search ``hit_in_cell``, on to ``_walk_straight_far``.
+
+    Written out with its far walk rather than built by :func:`_force_walk`'s kind of factory: so
+    built, it ran the kernel of a diamond lattice at 0.65 of its speed (benchmarks/RESULTS.md).
+    """
     @jit
     def _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
                        cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling):
@@ -141,7 +191,7 @@ def _straight_walk(hit_in_cell, _walk_straight_far):
 
 def _straight_far_walk(far_hit_in_cell):
     """:func:`walk_hit`'s walk without force past ``FAR_CELLS``, over the far cells' search ``far_hit_in_cell``."""
-    @jit  # not inlined: reached by few flights (as disks._disk_walk_far)
+    @jit  # not inlined: reached by few flights (as the far walks of disks.py)
     def _walk_straight_far(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, cur_e, cur_o1, cur_o2, t_limit,
                            extent_tol, max_cells, ceiling, s1, s2, d1, d2, t_in, ta, tb):
         """:func:`_walk_straight` from its cell ``(d1, d2)`` on, ``FAR_CELLS`` or more from the start:
@@ -167,44 +217,8 @@ def _straight_far_walk(far_hit_in_cell):
 
 
 
-def _force_far_walk(hit_in_cell, far_hit_in_cell):
-    """:func:`walk_hit`'s walk under a force past ``FAR_CELLS``, over both cell searches."""
-    @jit  # not inlined: reached by few flights
-    def _walk_force_far(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2,
-                        t_limit, extent_tol, max_cells, ceiling, d1, d2, t_in):
-        """:func:`walk_hit`'s walk under a force from its cell ``(d1, d2)`` on, once it got ``FAR_CELLS`` or more
-        from the start: far cells' copies by :func:`far_hit_in_cell`, and the cells of a flight that turns back
-        within ``FAR_CELLS`` of its start by :func:`events.hit_in_cell`, as before it left.  A hit is
-        reported with status 2 and its finite time (the event loop approaches it with :func:`far_move`)."""
-        for _ in range(max_cells):
-            ta, sa = _strip_exit(a0, a1, a2, d1 - 0.5, d1 + 0.5, t_in)
-            tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
-            t_out = min(ta, tb)
-            if max(abs(d1), abs(d2)) < FAR_CELLS:
-                t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay),
-                                           cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
-                if e >= 0:
-                    return t, e, o1, o2, 2
-            else:
-                t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay),
-                                               cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
-                if e >= 0:
-                    return t, e, o1, o2, 2
-            if t_out >= t_limit:
-                return INF, -1, 0, 0, 1
-            if ta == t_out:
-                d1 += sa
-            if tb == t_out:
-                d2 += sb
-            t_in = t_out
-        return INF, -1, 0, 0, 2
-
-    return _walk_force_far
-
-
-
-def _walk(hit_in_cell, _walk_straight, _walk_force_far):
-    """:func:`lattice_walk`'s ``walk_hit`` from its cell search and the walks it hands on to."""
+def _walk(straight, force):
+    """:func:`lattice_walk`'s ``walk_hit`` over its walks without and with force."""
     @jit
     def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
                  cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling=INF):
@@ -213,37 +227,11 @@ def _walk(hit_in_cell, _walk_straight, _walk_force_far):
         a0, b0 = lattice_coordinates(B, x, y)
         a1, b1 = lattice_coordinates(B, vx, vy)
         if not has_force:
-            return _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
-                                  cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling)
+            return straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
+                            cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling)
         a2, b2 = lattice_coordinates(B, ax, ay)
-        a2 *= 0.5
-        b2 *= 0.5
-        d1 = 0
-        d2 = 0
-        t_in = 0.0
-        k = 0
-        while k < max_cells:
-            if max(abs(d1), abs(d2)) >= FAR_CELLS:  # a long flight goes on out of line, below (a call in
-                break                               # this loop cost the Galton board a third of its speed)
-            k += 1
-            ta, sa = _strip_exit(a0, a1, a2, d1 - 0.5, d1 + 0.5, t_in)
-            tb, sb = _strip_exit(b0, b1, b2, d2 - 0.5, d2 + 0.5, t_in)
-            t_out = min(ta, tb)
-            t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay),
-                                       cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
-            if e >= 0:
-                return t, e, o1, o2, 0
-            if t_out >= t_limit:
-                return INF, -1, 0, 0, 1
-            if ta == t_out:
-                d1 += sa
-            if tb == t_out:
-                d2 += sb
-            t_in = t_out
-        if k >= max_cells:
-            return INF, -1, 0, 0, 2
-        return _walk_force_far(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, vy, ax, ay, cur_e,
-                               cur_o1, cur_o2, t_limit, extent_tol, max_cells - k, ceiling, d1, d2, t_in)
+        return force(kinds, params, copies, A, a0, a1, 0.5 * a2, b0, b1, 0.5 * b2, x, y, vx, vy, ax, ay,
+                     cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling, 0, 0, 0.0)
 
     return walk_hit
 
@@ -253,24 +241,21 @@ def lattice_walk(open_ends=True):
     """``walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force, cur_e, cur_o1, cur_o2, t_limit,
     extent_tol, max_cells, ceiling=inf)``: free flight's earliest hit in a periodic scene.
 
-    Returns ``(t, element, o1, o2, status)``: ``status`` 0 for a hit, 1 when the
-    walk passed ``t_limit`` without a hit, 2 when it crossed ``max_cells`` cells
-    without a hit (an endless free flight, reported as an escape).  Cells ``FAR_CELLS``
-    or more from the start are searched on the flight re-centred exactly there
-    (:mod:`far_flight`, out of line); the event loop forms such a hit's point
-    exactly for a straight flight (:func:`far_hit_point`).  Under a force
-    (``has_force``) a hit found after the walk got that far is returned with
-    status 2, as an escape but with its finite time ``t``: the event loop
-    moves the flight's start near it (:func:`far_move`) and walks again.
-    ``ceiling``: the top of a bounded lattice relative to cell 0 (copies whose
-    centre lies above it are skipped, :func:`search.cell_search`); ``inf`` for none.
+    Returns ``(t, element, o1, o2, status)``: ``status`` 0 for a hit, 1 when the walk passed
+    ``t_limit`` without a hit, 2 when it crossed ``max_cells`` cells without one (an endless
+    flight, reported as an escape).  The event loop forms the point of a straight flight's hit
+    ``FAR_CELLS`` or more from the start exactly (:func:`far_hit_point`); under a force
+    (``has_force``) such a hit comes with status 2 and its finite time ``t``, and the event loop
+    moves the flight's start near it (:func:`far_move`) and walks again.  ``ceiling``: the top of
+    a bounded lattice relative to cell 0 (:func:`search.cell_search`); ``inf`` for none.
     ``open_ends``: the open-end rule compiled in (:func:`search.cell_search`).
     """
     near_falling = cell_search(free_flight.falling, open_ends=open_ends)
     far_falling = cell_search(far_flight.falling, open_ends=open_ends)
     straight = _straight_walk(cell_search(free_flight.straight, open_ends=open_ends),
                               _straight_far_walk(cell_search(far_flight.straight, open_ends=open_ends)))
-    return _walk(near_falling, straight, _force_far_walk(near_falling, far_falling))
+    force = _force_walk(near_falling, hand_on=_force_walk(_by_distance(near_falling, far_falling)))
+    return _walk(straight, force)
 
 
 #: Free flight's lattice walk, the open-end rule compiled in.
@@ -282,13 +267,9 @@ walk_hit = lattice_walk()
 def far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t):
     """Hit point of a long straight flight relative to the copy ``(o1, o2)`` it hit, to a few ulps of the element.
 
-    ``q + v t - (o1 a1 + o2 a2)`` formed plainly carries ``eps`` times the
-    flight's length.  Here it is formed to twice the working precision
-    (:mod:`exact`) for the float ``t``; ``t`` itself carries ``eps t``, a
-    step along the flight, which is removed by moving the point along ``v``
-    to the element's exit root nearest to it (a root of a polynomial formed
-    at the element's scale).  The result lies on the element's line or
-    circle to rounding, wherever the flight started.
+    ``q + v t - (o1 a1 + o2 a2)`` is formed to twice the working precision (:mod:`exact`), then
+    moved along ``v`` to the element's exit root nearest to it, which removes the rounding of
+    ``t`` (plainly the point carries ``eps`` times the flight's length; docs/algorithm.md, *Lattices*).
     """
     sxh, sxl, syh, syl = lattice_shift_dd(A, o1, o2)
     px, pe = two_prod(vx, t)
@@ -311,28 +292,22 @@ def far_hit_point(kind, p, A, o1, o2, x, y, vx, vy, t):
     return rx + vx * step, ry + vy * step
 
 
-@jit(inline="always")  # out of line, called around the collision loop, it cost the Galton board (specular) 10-15 %
+@jit(inline="always")  # out of line it cost the Galton board 10-15 % (benchmarks/RESULTS.md)
 def far_move(A, B, x, y, vx, vy, ax, ay, t_hit, t_max):
     """Move a flight under a force exactly to shortly before its far hit, re-based onto the cell reached.
 
-    The flight ``q(t) = (x, y) + v t + a t^2/2`` (relative to its start cell) hits an
-    element copy far away at ``t_hit``.  Its start moves to ``t_move = t_hit - delta``,
-    ``delta`` the positive root of ``|a| delta^2 / 2 + |u| delta = L``, where ``u = v + a t_hit``
-    is the velocity at the hit and ``L = NEAR_CELLS / max(|b1|, |b2|)`` (``b1, b2`` the rows
-    of ``B = A^-1``).  Since ``q(t_hit - s) - q(t_hit) = -u s + a s^2/2``, the flight after
-    ``t_move`` lies within ``L`` of the hit point, hence within ``NEAR_CELLS`` of it in each
-    lattice coordinate.  Before ``t_hit`` the flight is in free space (``t_hit`` is its
-    first hit), so the moved start is a start of the same flight, which meets the same
-    copy ``delta`` later.  ``t_move`` is at most ``t_max`` (the time left before
-    ``max_time``: the orbit then stops there).
+    The flight ``q(t) = (x, y) + v t + a t^2/2`` (relative to its start cell) first hits a far
+    copy at ``t_hit``; its start moves to ``t_move = min(t_hit - delta, t_max)``, ``delta`` the
+    positive root of ``|a| delta^2 / 2 + |u| delta = L`` (``u = v + a t_hit``,
+    ``L = NEAR_CELLS / max(|b1|, |b2|)``, ``b1, b2`` the rows of ``B = A^-1``), so the flight after
+    ``t_move`` lies within ``NEAR_CELLS`` of the hit in each lattice coordinate and, in free space
+    before it, meets the same copy ``delta`` later.  ``t_max``: the time left before ``max_time``.
+    The point is formed to twice the working precision (:func:`flight_point_dd`) and seen from the
+    cell ``(k1, k2)`` that holds it through the exact shift (:func:`exact.lattice_shift_dd`): a few
+    ulps of the cell's size (docs/algorithm.md, *Lattices*).
 
-    The point is formed to twice the working precision (:func:`flight_point_dd`) and seen
-    from the cell ``(k1, k2)`` that holds it through the translation formed exactly
-    (:func:`exact.lattice_shift_dd`): it carries a few ulps of the cell's size, not ``eps``
-    times the flight's length.  The velocity is ``v + a t_move``, to a few ulps of itself.
-
-    Returns ``(t_move, k1, k2, x, y, vx, vy)``, the new position relative to cell ``(k1, k2)``
-    of the old frame.
+    Returns ``(t_move, k1, k2, x, y, vx, vy)``, the new position relative to cell ``(k1, k2)`` of the
+    old frame, and the velocity ``v + a t_move`` (to a few ulps of itself).
     """
     ux = vx + ax * t_hit
     uy = vy + ay * t_hit

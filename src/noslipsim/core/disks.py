@@ -1,45 +1,17 @@
 """The event loop of disk scatterers on a lattice without force (Sinai torus, Lorentz gases).
 
-Such a scene needs far less than the general loop (:mod:`loop`): flights are
-straight and the obstacles are convex disks that never touch, so the disk just
-hit is not met on the next flight (no deflation), there is no corner rule, a
-collision never slides off (no grazing stop), and there are no extents to
-test.  The test and the collision take no ``hypot``, projection or division
-after the hit point is known (the chain of dependent operations from one
-collision to the next is what limits the speed):
-
-* hit: with ``d = q - c`` and ``b = d . v``, the flight meets the disk iff
-  ``b < 0`` and ``disc = |v|^2 r^2 - (d x v)^2 > 0`` (Lagrange's identity:
-  ``disc = b^2 - |v|^2 (|d|^2 - r^2)``; the cross product keeps a long
-  flight's grazing test at full precision); the time is
-  ``(-b - sqrt(disc)) / |v|^2`` (no cancellation: both terms are positive) and
-  the hit point relative to the centre is ``h = d + v t``;
-* ``h`` lies on the circle to rounding (as a projected point does), so
-  ``|h|^2 = r^2 (1 + delta)`` with ``delta`` of a few ulps, and ``1/|h|^2`` and
-  ``h/|h|`` are one Newton step from ``1/r^2`` and ``h/r``, accurate to
-  ``delta^2`` (a division when ``delta`` is not small, see ``NEWTON_DELTA``);
-  the normal's step is taken with fused multiply-adds (:func:`exact.fma`), so
-  its correction is not rounded away at 1 (that biased the energy by
-  -1e-16 per no-slip collision at r = 0.3; docs/algorithm.md section 0);
-* specular: ``v' = v - 2 (v . h) h / |h|^2``, the reflection in the line
-  through ``h``; no-slip: :func:`laws.collide` with ``n = -h/|h|``.
-
-Two walks.  One disk inside its cell (the Sinai torus, the Lorentz gas up to
-``r`` = half the cell's width: :attr:`KernelTable.one_disk_per_cell`):
-:func:`disk_walk` tests that disk in each cell and the first hit is the
-earliest.  Several disks per cell, or disks reaching into neighbouring cells
-(:attr:`KernelTable.disk_lattice`): :func:`disks_walk` tests every copy
-that reaches a cell and takes the earliest hit once it comes before the
-cell's exit (a hit on a copy from a neighbouring cell may lie beyond it; the
-hit point is then re-based onto the cell that holds it).
-
-A tangent flight (``disc = 0``) is no hit, as in the general loop.  The
-results differ from the general loop's in the last bits (the other variants
-of :func:`loop.orbit_kernel` are identical to it bit for bit): every flight
-agrees to rounding, stops and records included (``tests/test_disk_lattice.py``,
-``tests/test_disk_cells.py``).  Measured: about twice the general loop's speed
-on the Sinai torus, 1.9 to 3 times on two- and five-disk cells
-(``benchmarks/results/ablation.md``).
+Flights are straight and the disks convex and apart, so this loop drops what the general one
+(:mod:`loop`) needs for other scenes: deflation, the corner rule, the grazing stop, extents.
+With ``d = q - c`` and ``b = d . v`` a flight meets the disk iff ``b < 0`` and
+``disc = |v|^2 r^2 - (d x v)^2 > 0`` (Lagrange's identity, ``disc = b^2 - |v|^2 (|d|^2 - r^2)``: the
+cross product keeps a long flight's grazing test precise; tangent, ``disc = 0``, is no hit), at
+``t = (-b - sqrt(disc)) / |v|^2`` (no cancellation), on ``h = d + v t`` from the centre.  ``h`` lies
+on the circle to rounding, so ``1/|h|^2`` and ``h/|h|`` are one Newton step from ``1/r^2`` and
+``h/r`` (:data:`NEWTON_DELTA`, :func:`_disk_normal`): after the hit point no division or square root
+lengthens the chain of dependent operations that limits the speed.  Specular:
+``v' = v - 2 (v . h) h / |h|^2``; no-slip: :func:`laws.collide` with ``n = -h/|h|``.  The results
+agree with the general loop's to rounding, not bit for bit.  :func:`disk_walk` walks one disk inside
+its cell, :func:`disks_walk` any disks (docs/algorithm.md, *One disk per cell: the lean loop*).
 """
 import functools
 import math
@@ -77,9 +49,8 @@ NO_CELL = MAX_CELLS_PER_FLIGHT + 1
 NEWTON_DELTA = 1e-8
 
 
-#: Cells a flight walks with the disk offset updated by one lattice vector per
-#: step; later cells test their disk with :func:`_line_disk_far`, whose hit
-#: point does not lose digits with the distance walked.
+#: Cells a flight walks with the disk offset updated by one lattice vector per step; later cells
+#: test their disks with :func:`_line_disk_far`, whose hit point keeps its digits however far.
 INCREMENTAL_CELLS = 16
 
 
@@ -99,14 +70,10 @@ def _line_disk(dx, dy, vx, vy, ivv, rr):
 def _line_disk_far(A, d1, d2, ex, ey, vx, vy, ivv, rr):
     """:func:`_line_disk` for the disk of a far cell ``(d1, d2)``; ``e`` is the start seen from the disk of cell 0.
 
-    ``d = e - (d1 a1 + d2 a2)`` is as long as the flight, so ``h = d + v t``
-    would carry ``eps |d|``.  Here ``d`` is formed exactly
-    (:func:`exact.lattice_shift_dd`), the cross product ``d x v`` (the
-    flight's distance from the centre times ``|v|``) to a few ulps of itself
-    (:func:`exact.cross_dd`), and the hit point without ``t``: ``h`` is the
-    foot of the perpendicular, ``(d x v) (vy, -vx) / |v|^2``, stepped back
-    along the flight by ``sqrt(disc) / |v|^2``.  Its error is a few ulps of
-    ``r``, however far the flight went; the time keeps a few ulps of itself.
+    ``d = e - (d1 a1 + d2 a2)`` is as long as the flight (``h = d + v t`` would carry ``eps |d|``):
+    it is formed exactly (:func:`exact.lattice_shift_dd`), ``d x v`` to a few ulps of itself
+    (:func:`exact.cross_dd`), and ``h = ((d x v) (vy, -vx) - sqrt(disc) v) / |v|^2``, the foot of the
+    perpendicular stepped back, without ``t``: a few ulps of ``r`` however far the flight went.
     """
     sxh, sxl, syh, syl = lattice_shift_dd(A, d1, d2)
     dxh, dxl = offset_dd(ex, sxh, sxl)
@@ -122,225 +89,175 @@ def _line_disk_far(A, d1, d2, ex, ey, vx, vy, ivv, rr):
 
 
 @jit(inline="always")
-def disk_walk(p, A, B, x, y, vx, vy, cur_o1, cur_o2, t_limit, max_cells):
-    """First disk hit of the straight flight from ``(x, y)`` (relative to cell 0); one disk ``p`` per cell.
+def _walk_start(A, B, x, y, vx, vy):
+    """``(vv, ivv, faces, steps, ta, tb)``: the cell walk of the straight flight from ``(x, y)`` at its start.
 
-    Walks the cells as :func:`cells.walk_hit` does (face times from the
-    flight's start, here times the reciprocal rate) and tests the disk of
-    each cell but the one just hit (in cell ``(cur_o1, cur_o2)``); the disk
-    lies inside its cell, so the first hit found is the earliest.  Along the
-    first ``INCREMENTAL_CELLS`` cells the offset ``d`` from the disk's centre
-    is updated by one lattice vector per step (each step rounds once); later
-    cells use :func:`_line_disk_far` (exact offset, compensated cross
-    product), so the hit point's error does not grow with the flight.
-
-    Returns ``(t, o1, o2, hx, hy, status)``: the hit cell, the hit point
-    relative to the centre, and ``status`` as in :func:`cells.walk_hit`
-    (0 hit, 1 past ``t_limit``, 2 past ``max_cells``).
+    ``faces = (a0, b0, ia, ib, s1, s2)``: the flight's lattice coordinates at ``t = 0``, their reciprocal
+    rates and the directions of the steps; ``steps``: the change of an offset from a disk's centre per
+    step in each direction; ``ta, tb``: the first face times.
     """
     a0, b0 = lattice_coordinates(B, x, y)
     a1, b1 = lattice_coordinates(B, vx, vy)
     vv = vx * vx + vy * vy
-    ivv = 1.0 / vv
     s1 = 1 if a1 > 0.0 else -1
     s2 = 1 if b1 > 0.0 else -1
     ia = 1.0 / a1
     ib = 1.0 / b1
     ta = max((0.5 * s1 - a0) * ia, 0.0) if a1 != 0.0 else INF
     tb = max((0.5 * s2 - b0) * ib, 0.0) if b1 != 0.0 else INF
+    steps = (s1 * A[0, 0], s1 * A[1, 0], s2 * A[0, 1], s2 * A[1, 1])
+    return vv, 1.0 / vv, (a0, b0, ia, ib, s1, s2), steps, ta, tb
+
+
+@jit(inline="always")
+def _cross(t_out, d1, d2, dx, dy, ta, tb, faces, steps):
+    """``(d1, d2, dx, dy, ta, tb)`` past the faces crossed at ``t_out``: the offset ``d`` one lattice vector on."""
+    a0, b0, ia, ib, s1, s2 = faces
+    ux, uy, wx, wy = steps
+    if ta == t_out:
+        d1 += s1
+        dx -= ux
+        dy -= uy
+        ta = max((d1 + 0.5 * s1 - a0) * ia, t_out)
+    if tb == t_out:
+        d2 += s2
+        dx -= wx
+        dy -= wy
+        tb = max((d2 + 0.5 * s2 - b0) * ib, t_out)
+    return d1, d2, dx, dy, ta, tb
+
+
+def _compile_walk(near):
+    """A near walk is inlined into its loop; a far walk, reached by few flights, is not (inlined, its code cost
+    the near walk 3 %: benchmarks/RESULTS.md)."""
+    return functools.partial(jit, inline="always") if near else jit
+
+
+def _disk_walk(hand_on=None):
+    """:func:`disk_walk`'s walk from its cell ``(d1, d2)`` on: with ``hand_on`` (near) along ``INCREMENTAL_CELLS``
+    cells by :func:`_line_disk`, then on in ``hand_on``; without (far) by :func:`_line_disk_far`."""
+    NEAR = hand_on is not None
+
+    @_compile_walk(NEAR)
+    def walk(A, ex, ey, dx, dy, vx, vy, ivv, rr, d1, d2, faces, steps, ta, tb, cur_o1, cur_o2, t_limit, max_cells):
+        """The walk; ``e``: the start seen from the disk of cell 0, ``d``: the offset in cell ``(d1, d2)``."""
+        for _ in range(min(max_cells, INCREMENTAL_CELLS) if NEAR else max_cells):
+            if not (d1 == cur_o1 and d2 == cur_o2):
+                if NEAR:
+                    t, hx, hy = _line_disk(dx, dy, vx, vy, ivv, rr)
+                else:
+                    t, hx, hy = _line_disk_far(A, d1, d2, ex, ey, vx, vy, ivv, rr)
+                if t < INF:
+                    return t, d1, d2, hx, hy, 0
+            t_out = min(ta, tb)
+            if t_out >= t_limit:
+                return INF, 0, 0, 0.0, 0.0, 1
+            d1, d2, dx, dy, ta, tb = _cross(t_out, d1, d2, dx, dy, ta, tb, faces, steps)
+        if NEAR:  # a long flight goes on out of line: the near walk, the common case, stays as short
+            return hand_on(A, ex, ey, dx, dy, vx, vy, ivv, rr, d1, d2, faces, steps, ta, tb, cur_o1, cur_o2,
+                           t_limit, max_cells - INCREMENTAL_CELLS)
+        return INF, 0, 0, 0.0, 0.0, 2
+
+    return walk
+
+
+_disk_walk_near = _disk_walk(hand_on=_disk_walk())
+
+
+@jit(inline="always")
+def disk_walk(p, A, B, x, y, vx, vy, cur_o1, cur_o2, t_limit, max_cells):
+    """First disk hit of the straight flight from ``(x, y)`` (relative to cell 0); one disk ``p`` per cell.
+
+    Walks the cells as :func:`cells.walk_hit` does and tests the disk of each cell but the one
+    just hit (in cell ``(cur_o1, cur_o2)``); the disk lies inside its cell, so the first hit found
+    is the earliest.  The offset ``d`` from the disk's centre steps by one lattice vector per cell
+    along ``INCREMENTAL_CELLS`` cells (each step rounds once), later cells use :func:`_line_disk_far`.
+
+    Returns ``(t, o1, o2, hx, hy, status)``: the hit cell, the hit point relative to the centre,
+    and ``status`` as in :func:`cells.walk_hit` (0 hit, 1 past ``t_limit``, 2 past ``max_cells``).
+    """
+    vv, ivv, faces, steps, ta, tb = _walk_start(A, B, x, y, vx, vy)
     r = p[2]
-    rr = vv * (r * r)
-    ux = s1 * A[0, 0]
-    uy = s1 * A[1, 0]
-    wx = s2 * A[0, 1]
-    wy = s2 * A[1, 1]
     ex = x - p[0]
     ey = y - p[1]
-    dx = ex
-    dy = ey
-    d1 = 0
-    d2 = 0
-    for _ in range(min(max_cells, INCREMENTAL_CELLS)):
-        if not (d1 == cur_o1 and d2 == cur_o2):
-            t, hx, hy = _line_disk(dx, dy, vx, vy, ivv, rr)
-            if t < INF:
-                return t, d1, d2, hx, hy, 0
-        t_out = min(ta, tb)
-        if t_out >= t_limit:
-            return INF, 0, 0, 0.0, 0.0, 1
-        if ta == t_out:
-            d1 += s1
-            dx -= ux
-            dy -= uy
-            ta = max((d1 + 0.5 * s1 - a0) * ia, t_out)
-        if tb == t_out:
-            d2 += s2
-            dx -= wx
-            dy -= wy
-            tb = max((d2 + 0.5 * s2 - b0) * ib, t_out)
-    # a flight past INCREMENTAL_CELLS cells goes on out of line: the walk above, the common case, stays as short
-    return _disk_walk_far(A, ex, ey, vx, vy, ivv, rr, d1, d2, s1, s2, a0, b0, ia, ib, ta, tb, cur_o1, cur_o2,
-                          t_limit, max_cells - INCREMENTAL_CELLS)
+    return _disk_walk_near(A, ex, ey, ex, ey, vx, vy, ivv, vv * (r * r), 0, 0, faces, steps, ta, tb, cur_o1, cur_o2,
+                           t_limit, max_cells)
 
 
-@jit  # not inlined: reached by few flights, and inlined its code cost the walk above 3 % (benchmarks/RESULTS.md)
-def _disk_walk_far(A, ex, ey, vx, vy, ivv, rr, d1, d2, s1, s2, a0, b0, ia, ib, ta, tb, cur_o1, cur_o2, t_limit,
-                   max_cells):
-    """:func:`disk_walk` from its cell ``(d1, d2)`` on, past ``INCREMENTAL_CELLS``: each disk by :func:`_line_disk_far`.
+@jit(inline="always")
+def _copy_near(A, p, o1, o2, d1, d2, x, y, dx, dy, vx, vy, ivv, rr):
+    """:func:`_line_disk` for the copy of disk ``p`` ``(o1, o2)`` cells from walk cell ``(d1, d2)``, from ``d``."""
+    ex = dx - p[0]
+    ey = dy - p[1]
+    if o1 != 0 or o2 != 0:
+        sx, sy = lattice_shift(A, o1, o2)
+        ex -= sx
+        ey -= sy
+    return _line_disk(ex, ey, vx, vy, ivv, rr)
 
-    The same walk as :func:`disk_walk`'s, written out again rather than
-    shared, so that the common walk compiles as it did before the far cells
-    were made exact.
-    """
-    for _ in range(max_cells):
-        if not (d1 == cur_o1 and d2 == cur_o2):
-            t, hx, hy = _line_disk_far(A, d1, d2, ex, ey, vx, vy, ivv, rr)
-            if t < INF:
-                return t, d1, d2, hx, hy, 0
-        t_out = min(ta, tb)
-        if t_out >= t_limit:
-            return INF, 0, 0, 0.0, 0.0, 1
-        if ta == t_out:
-            d1 += s1
-            ta = max((d1 + 0.5 * s1 - a0) * ia, t_out)
-        if tb == t_out:
-            d2 += s2
-            tb = max((d2 + 0.5 * s2 - b0) * ib, t_out)
-    return INF, 0, 0, 0.0, 0.0, 2
+
+@jit(inline="always")
+def _copy_far(A, p, o1, o2, d1, d2, x, y, dx, dy, vx, vy, ivv, rr):
+    """:func:`_line_disk_far` for the copy of disk ``p`` ``(o1, o2)`` cells from walk cell ``(d1, d2)``."""
+    return _line_disk_far(A, d1 + o1, d2 + o2, x - p[0], y - p[1], vx, vy, ivv, rr)
+
+
+def _disks_walk(hand_on=None):
+    """:func:`disks_walk`'s walk from its cell ``(d1, d2)`` on: with ``hand_on`` (near) along ``INCREMENTAL_CELLS``
+    cells by :func:`_copy_near`, then on in ``hand_on``; without (far) by :func:`_copy_far`."""
+    NEAR = hand_on is not None
+    test = _copy_near if NEAR else _copy_far
+
+    @_compile_walk(NEAR)
+    def walk(params, copies, inside, A, x, y, dx, dy, vx, vy, vv, ivv, cur_e, cur_o1, cur_o2, d1, d2, faces, steps,
+             ta, tb, found, t_limit, max_cells):
+        """The walk; ``found = (t, j, o1, o2, hx, hy)``: the earliest hit so far (``t = inf``: none)."""
+        best, bj, b1_, b2_, bx, by = found
+        for _ in range(min(max_cells, INCREMENTAL_CELLS) if NEAR else max_cells):
+            for j in range(copies.shape[0]):
+                e = copies[j, 0]
+                o1 = copies[j, 1]
+                o2 = copies[j, 2]
+                if e == cur_e and d1 + o1 == cur_o1 and d2 + o2 == cur_o2:
+                    continue
+                p = params[e]
+                t, hx, hy = test(A, p, o1, o2, d1, d2, x, y, dx, dy, vx, vy, ivv, vv * (p[2] * p[2]))
+                if t < best:
+                    best, bj, b1_, b2_, bx, by = t, j, d1, d2, hx, hy
+            t_out = min(ta, tb)
+            if best <= t_out or (inside and best < INF):
+                return best, b1_, b2_, bj, bx, by, 0
+            if t_out >= t_limit:
+                return INF, 0, 0, -1, 0.0, 0.0, 1
+            d1, d2, dx, dy, ta, tb = _cross(t_out, d1, d2, dx, dy, ta, tb, faces, steps)
+        if NEAR:  # a long flight goes on out of line, as in disk_walk
+            return hand_on(params, copies, inside, A, x, y, dx, dy, vx, vy, vv, ivv, cur_e, cur_o1, cur_o2, d1, d2,
+                           faces, steps, ta, tb, (best, bj, b1_, b2_, bx, by), t_limit, max_cells - INCREMENTAL_CELLS)
+        return INF, 0, 0, -1, 0.0, 0.0, 2
+
+    return walk
+
+
+_disks_walk_near = _disks_walk(hand_on=_disks_walk())
 
 
 @jit(inline="always")
 def disks_walk(params, copies, inside, A, B, x, y, vx, vy, cur_e, cur_o1, cur_o2, t_limit, max_cells):
     """First disk hit of the straight flight from ``(x, y)`` (relative to cell 0).
 
-    Walks the cells as :func:`cells.walk_hit` does (face times from the
-    flight's start, here times the reciprocal rate) and tests in each cell the
-    disk copies that reach it (``copies``: element ``e`` of ``params``
-    translated by ``o1 a1 + o2 a2``) but the one just hit (element
-    ``cur_e`` of cell ``(cur_o1, cur_o2)``: a straight flight leaving a convex
-    disk does not meet it again).  The earliest hit of a cell is the hit as
-    soon as it comes before the cell's exit: any earlier hit lies in a cell
-    already walked, where the same copy was tested.  When every disk lies
-    inside its cell (``inside``) every hit found comes before the exit, and
-    the earliest of the first cell with a hit is taken at once.  Along the first
-    ``INCREMENTAL_CELLS`` cells the offset ``d`` from the cell's centre is
-    updated by one lattice vector per step (each step rounds once); later
-    cells test their copies with :func:`_line_disk_far` (exact offset,
-    compensated cross product), so the hit point's error does not grow with
-    the flight, as in :func:`disk_walk`.
+    Tests in each cell the disk copies that reach it (``copies``: element ``e`` of ``params``
+    translated by ``o1 a1 + o2 a2``) but the one just hit (element ``cur_e`` of cell
+    ``(cur_o1, cur_o2)``: a straight flight leaving a convex disk does not meet it again), and takes
+    the earliest hit so far once it comes before the cell's exit (any earlier hit lies in a cell
+    already walked), or at once when every disk lies inside its cell (``inside``).  The offset ``d``
+    from the cell's centre as in :func:`disk_walk`.
 
-    Returns ``(t, o1, o2, j, hx, hy, status)``: the walk cell where the hit was
-    found, the copy ``j`` hit, the hit point relative to the copy's centre, and
-    ``status`` as in :func:`cells.walk_hit` (0 hit, 1 past ``t_limit``, 2 past
-    ``max_cells``).
+    Returns ``(t, o1, o2, j, hx, hy, status)``: the walk cell where the hit was found, the copy ``j``
+    hit, the hit point relative to the copy's centre, and ``status`` as in :func:`cells.walk_hit`.
     """
-    a0, b0 = lattice_coordinates(B, x, y)
-    a1, b1 = lattice_coordinates(B, vx, vy)
-    vv = vx * vx + vy * vy
-    ivv = 1.0 / vv
-    s1 = 1 if a1 > 0.0 else -1
-    s2 = 1 if b1 > 0.0 else -1
-    ia = 1.0 / a1
-    ib = 1.0 / b1
-    ta = max((0.5 * s1 - a0) * ia, 0.0) if a1 != 0.0 else INF
-    tb = max((0.5 * s2 - b0) * ib, 0.0) if b1 != 0.0 else INF
-    ux = s1 * A[0, 0]
-    uy = s1 * A[1, 0]
-    wx = s2 * A[0, 1]
-    wy = s2 * A[1, 1]
-    dx = x
-    dy = y
-    d1 = 0
-    d2 = 0
-    best = INF
-    bj = -1
-    b1_ = 0
-    b2_ = 0
-    bx = 0.0
-    by = 0.0
-    for _ in range(min(max_cells, INCREMENTAL_CELLS)):
-        for j in range(copies.shape[0]):
-            e = copies[j, 0]
-            o1 = copies[j, 1]
-            o2 = copies[j, 2]
-            if e == cur_e and d1 + o1 == cur_o1 and d2 + o2 == cur_o2:
-                continue
-            p = params[e]
-            rr = vv * (p[2] * p[2])
-            ex = dx - p[0]
-            ey = dy - p[1]
-            if o1 != 0 or o2 != 0:
-                sx, sy = lattice_shift(A, o1, o2)
-                ex -= sx
-                ey -= sy
-            t, hx, hy = _line_disk(ex, ey, vx, vy, ivv, rr)
-            if t < best:
-                best = t
-                bj = j
-                b1_ = d1
-                b2_ = d2
-                bx = hx
-                by = hy
-        t_out = min(ta, tb)
-        if best <= t_out or (inside and best < INF):
-            return best, b1_, b2_, bj, bx, by, 0
-        if t_out >= t_limit:
-            return INF, 0, 0, -1, 0.0, 0.0, 1
-        if ta == t_out:
-            d1 += s1
-            dx -= ux
-            dy -= uy
-            ta = max((d1 + 0.5 * s1 - a0) * ia, t_out)
-        if tb == t_out:
-            d2 += s2
-            dx -= wx
-            dy -= wy
-            tb = max((d2 + 0.5 * s2 - b0) * ib, t_out)
-    # a flight past INCREMENTAL_CELLS cells goes on out of line, as in disk_walk
-    return _disks_walk_far(params, copies, inside, A, x, y, vx, vy, vv, ivv, cur_e, cur_o1, cur_o2, d1, d2, s1, s2,
-                           a0, b0, ia, ib, ta, tb, best, bj, b1_, b2_, bx, by, t_limit, max_cells - INCREMENTAL_CELLS)
-
-
-@jit  # not inlined, as _disk_walk_far
-def _disks_walk_far(params, copies, inside, A, x, y, vx, vy, vv, ivv, cur_e, cur_o1, cur_o2, d1, d2, s1, s2, a0, b0,
-                    ia, ib, ta, tb, best, bj, b1_, b2_, bx, by, t_limit, max_cells):
-    """:func:`disks_walk` from its cell ``(d1, d2)`` on, past ``INCREMENTAL_CELLS``: each copy by
-    :func:`_line_disk_far`.
-
-    The same walk and earliest-hit rule as :func:`disks_walk`, written out
-    again rather than shared: out of the common walk, this code no longer
-    costs the flights that never get here (2 to 9 % faster on two- and
-    five-disk cells, ``benchmarks/RESULTS.md``).
-    """
-    for _ in range(max_cells):
-        for j in range(copies.shape[0]):
-            e = copies[j, 0]
-            o1 = copies[j, 1]
-            o2 = copies[j, 2]
-            if e == cur_e and d1 + o1 == cur_o1 and d2 + o2 == cur_o2:
-                continue
-            p = params[e]
-            # the copy's centre is d + o cells away: offset and hit point by _line_disk_far
-            t, hx, hy = _line_disk_far(A, d1 + o1, d2 + o2, x - p[0], y - p[1], vx, vy, ivv, vv * (p[2] * p[2]))
-            if t < best:
-                best = t
-                bj = j
-                b1_ = d1
-                b2_ = d2
-                bx = hx
-                by = hy
-        t_out = min(ta, tb)
-        if best <= t_out or (inside and best < INF):
-            return best, b1_, b2_, bj, bx, by, 0
-        if t_out >= t_limit:
-            return INF, 0, 0, -1, 0.0, 0.0, 1
-        if ta == t_out:
-            d1 += s1
-            ta = max((d1 + 0.5 * s1 - a0) * ia, t_out)
-        if tb == t_out:
-            d2 += s2
-            tb = max((d2 + 0.5 * s2 - b0) * ib, t_out)
-    return INF, 0, 0, -1, 0.0, 0.0, 2
+    vv, ivv, faces, steps, ta, tb = _walk_start(A, B, x, y, vx, vy)
+    return _disks_walk_near(params, copies, inside, A, x, y, x, y, vx, vy, vv, ivv, cur_e, cur_o1, cur_o2, 0, 0,
+                            faces, steps, ta, tb, (INF, -1, 0, 0, 0.0, 0.0), t_limit, max_cells)
 
 
 @jit(inline="always")  # inlined, as every step of the loop below: they sit on its chain of dependent arithmetic
@@ -433,13 +350,11 @@ def _record_disk_hit(mode, rec, n_rec, mask, A, m1, m2, cur_o1, cur_o2, t, x, y,
 def disk_lattice_kernel(spin=None, mode=None):
     """The event loop for disk scatterers on a lattice without force, with :func:`loop.run_orbit`'s signature.
 
-    ``spin`` and ``mode`` are compile-time flags as in :func:`loop.orbit_kernel`
-    (``None``: read the law or the record mode from the arguments).  Only
-    for scenes with :attr:`KernelTable.disk_lattice` (disjoint disks);
-    the force, ``kinds``, ``lattice`` and junction arguments are ignored.  A
-    scene of one copy with no shift (one disk inside its cell) runs a loop
-    compiled around :func:`disk_walk`, any other one around :func:`disks_walk`
-    (chosen once per orbit, so the one-disk loop carries no test for the other).
+    ``spin`` and ``mode`` are compile-time flags as in :func:`loop.orbit_kernel` (``None``: read from
+    the arguments).  Only for scenes with :attr:`KernelTable.disk_lattice` (disjoint disks); the
+    force, ``kinds``, ``lattice`` and junction arguments are ignored.  One copy with no shift (one
+    disk inside its cell) runs a loop compiled around :func:`disk_walk`, any other scene one around
+    :func:`disks_walk`, chosen once per orbit (so the one-disk loop carries no test for the other).
     """
     one_disk = _disk_loop(spin, mode, True)
     several = _disk_loop(spin, mode, False)
