@@ -472,7 +472,8 @@ def _disk_loop(spin, mode, one):
                                              vx_in, vy_in, w_in, p, e, nx, ny)
             if stop != STOP_MAX_COLLISIONS or n >= max_collisions:  # stopped inside the block, or done
                 break
-            # disks only, no force: nothing a targeted part keeps, so the whole state (energy, "Which form")
+            # disks only, no force: nothing a targeted part keeps, so the whole state
+            # (docs/algorithm.md, "Which form, per table")
             vx, vy, w = settle_whole(vx, vy, w, mixes, 0.0, 0.0, 0.0, 0.0, False, energy0)
             block_end = min(max_collisions, n + SETTLE_EVERY)
         ox, oy = lattice_shift(A, m1, m2)
