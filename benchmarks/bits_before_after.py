@@ -102,6 +102,12 @@ def compare(a, b):
 
 
 if __name__ == "__main__":
-    if sys.argv[1] == "--compare":
-        sys.exit(compare(sys.argv[2], sys.argv[3]))
-    run(sys.argv[1])
+    args = sys.argv[1:]
+    comparing = bool(args) and args[0] == "--compare"
+    if not args or (comparing and len(args) != 3) or (not comparing and args[0].startswith("-")):
+        # a mistyped option never runs the orbits into a file named after it
+        print(__doc__, file=sys.stderr)
+        sys.exit(0 if args and args[0] in ("-h", "--help") else 2)
+    if args[0] == "--compare":
+        sys.exit(compare(args[1], args[2]))
+    run(args[0])
