@@ -103,7 +103,6 @@ def _force_walk(search, hand_on=None):
     it walks on to ``max_cells`` and reports a hit with status 2 (:func:`lattice_walk`).
     """
     NEAR = hand_on is not None
-    HIT = 0 if NEAR else 2
     compile = functools.partial(jit, inline="always") if NEAR else jit
 
     @compile
@@ -122,7 +121,7 @@ def _force_walk(search, hand_on=None):
             t, e, o1, o2 = search(kinds, params, copies, A, d1, d2, (x, y, vx, vy, ax, ay), cur_e, cur_o1, cur_o2,
                                   t_out, extent_tol, t_in, True, ceiling)
             if e >= 0:
-                return t, e, o1, o2, HIT
+                return t, e, o1, o2, 0 if NEAR else 2  # a far hit: status 2 (lattice_walk)
             if t_out >= t_limit:
                 return INF, -1, 0, 0, 1
             if ta == t_out:
