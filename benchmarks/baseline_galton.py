@@ -14,9 +14,9 @@ first derivative is monotone, its roots split it where the polynomial is, and
 the first piece that goes from outside to inside is solved by Newton steps
 kept inside a bisection bracket.  A window whose chord passes farther from the
 peg than its radius plus the arc's largest rise over the chord is skipped.  The hit
-point is projected onto the peg; the law is specular or no-slip (the
-rotation of ``(v_t, w)`` of ``noslipsim.core.laws.collide``, outward normal into
-the peg).  The orbit stops at the exact time it crosses ``level`` downwards, at
+point is projected onto the peg; the law is ``noslipsim.core.laws.collide``
+(specular, or the no-slip rotation of ``(v_t, w)``; outward normal into the
+peg).  The orbit stops at the exact time it crosses ``level`` downwards, at
 ``max_time`` or after ``max_collisions``.
 
 What it omits, all of which the engine does: records (only a count and,
@@ -41,8 +41,10 @@ from numba import njit
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from machine import machine_line
 
-SPECULAR = 0
-NOSLIP = 1
+from noslipsim.core.laws import collide
+from noslipsim.core.layout import NOSLIP, SPECULAR
+from noslipsim.core.roots import horner, horner_prime
+
 #: Why an orbit ended.
 STOP_COLLISIONS, STOP_TIME, STOP_LEVEL = 0, 1, 2
 #: No peg was hit yet.
@@ -56,18 +58,6 @@ ROUNDING = 4.0 * 2.0**-52
 MAX_STEPS = 200
 
 jit = njit(error_model="numpy", fastmath=False)
-
-
-@jit
-def poly(e4, e3, e2, e1, e0, t):
-    """``e4 t^4 + e3 t^3 + e2 t^2 + e1 t + e0`` (Horner)."""
-    return (((e4 * t + e3) * t + e2) * t + e1) * t + e0
-
-
-@jit
-def dpoly(e4, e3, e2, e1, t):
-    """The derivative of :func:`poly` at ``t``."""
-    return ((4.0 * e4 * t + 3.0 * e3) * t + 2.0 * e2) * t + e1
 
 
 @jit
@@ -96,14 +86,14 @@ def newton_bisect(e4, e3, e2, e1, e0, lo, hi, f_lo, t):
     if not lo < t < hi:
         t = 0.5 * (lo + hi)
     for _ in range(MAX_STEPS):
-        f = poly(e4, e3, e2, e1, e0, t)
+        f = horner(e0, e1, e2, e3, e4, t)
         if f == 0.0:
             return t
         if (f > 0.0) == (f_lo > 0.0):
             lo = t
         else:
             hi = t
-        d = dpoly(e4, e3, e2, e1, t)
+        d = horner_prime(e1, e2, e3, e4, t)
         nxt = t - f / d if d != 0.0 else 0.5 * (lo + hi)
         if abs(nxt - t) <= ROUNDING * abs(t):
             return nxt
@@ -133,6 +123,12 @@ def taylor_guess(e4, e3, e2, lo, hi, f_lo, d_lo, f_hi):
 
 
 @jit
+def entry_root(e4, e3, e2, e1, e0, lo, hi, f_lo, d_lo, f_hi):
+    """The root in ``[lo, hi]``, where ``p`` falls monotonically from ``f_lo > 0`` (slope ``d_lo``) to ``f_hi <= 0``."""
+    return newton_bisect(e4, e3, e2, e1, e0, lo, hi, f_lo, taylor_guess(e4, e3, e2, lo, hi, f_lo, d_lo, f_hi))
+
+
+@jit
 def first_entry(e4, e3, e2, e1, e0, a, b):
     """The first ``t`` in ``[a, b]`` where ``p(t) = e4 t^4 + ... + e0`` falls to zero from above, else ``inf``.
 
@@ -140,31 +136,29 @@ def first_entry(e4, e3, e2, e1, e0, a, b):
     (a quadratic).  So: the roots of ``p''`` in the window, then the roots of ``p'`` between them,
     then the first monotone piece of ``p`` that ends at or below zero.
     """
-    p_start = poly(e4, e3, e2, e1, e0, a)
+    p_start = horner(e0, e1, e2, e3, e4, a)
     if p_start <= 0.0:
         return a
     z1, z2 = quadratic_roots(12.0 * e4, 6.0 * e3, 2.0 * e2)
     start = a
-    d_start = dpoly(e4, e3, e2, e1, a)
+    d_start = horner_prime(e1, e2, e3, e4, a)
     for k in range(3):
         end = b if k == 2 else (z1 if k == 0 else z2)
         if not start < end <= b:
             continue
-        d_end = dpoly(e4, e3, e2, e1, end)
+        d_end = horner_prime(e1, e2, e3, e4, end)
         if (d_start < 0.0 and d_end >= 0.0) or (d_start > 0.0 and d_end <= 0.0):  # a critical point of p
             crit = newton_bisect(0.0, 4.0 * e4, 3.0 * e3, 2.0 * e2, e1, start, end, d_start,
                                  secant(start, end, d_start, d_end))
-            p_crit = poly(e4, e3, e2, e1, e0, crit)
+            p_crit = horner(e0, e1, e2, e3, e4, crit)
             if p_crit <= 0.0:
-                return newton_bisect(e4, e3, e2, e1, e0, start, crit, p_start,
-                                     taylor_guess(e4, e3, e2, start, crit, p_start, d_start, p_crit))
+                return entry_root(e4, e3, e2, e1, e0, start, crit, p_start, d_start, p_crit)
             start = crit
             p_start = p_crit
-            d_start = dpoly(e4, e3, e2, e1, crit)
-        p_end = poly(e4, e3, e2, e1, e0, end)
+            d_start = horner_prime(e1, e2, e3, e4, crit)
+        p_end = horner(e0, e1, e2, e3, e4, end)
         if p_end <= 0.0:
-            return newton_bisect(e4, e3, e2, e1, e0, start, end, p_start,
-                                 taylor_guess(e4, e3, e2, start, end, p_start, d_start, p_end))
+            return entry_root(e4, e3, e2, e1, e0, start, end, p_start, d_start, p_end)
         start = end
         p_start = p_end
         d_start = d_end
@@ -274,18 +268,6 @@ def next_hit(x, y, vx, vy, g, r, w, h, last_m, last_j, t_end):
             ty, dk = y_face_time(y, vy, g, k, h, tl)
         te = tl
     return math.inf, NO_PEG, NO_PEG
-
-
-@jit
-def collide(law, c, s, vx, vy, w, nx, ny):
-    """Post-collision ``(vx, vy, w)`` at outward normal ``(nx, ny)`` (docs/conventions.md)."""
-    tx = -ny
-    ty = nx
-    vt = vx * tx + vy * ty
-    vn = vx * nx + vy * ny
-    if law == NOSLIP:
-        w, vt = -c * w - s * vt, -s * w + c * vt
-    return vt * tx - vn * nx, vt * ty - vn * ny, w
 
 
 @jit
