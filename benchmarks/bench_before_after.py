@@ -74,6 +74,16 @@ def many_case(pkg, scene_fn, q0, n_orbits, kw):
     return lambda: int(pkg.simulate_many(scene, q, v, scheduler="sync", progress=False, **kw).n_collisions.sum())
 
 
+def diamond(force=(0.0, 0.0)):
+    """The square lattice of diamonds (half-diagonal 0.25): a lattice of segments, walked by ``cells.walk_hit``."""
+    def scene(p):
+        c, h = 0.5, 0.25
+        pts = [(c, c + h), (c + h, c), (c, c - h), (c - h, c)]
+        segs = tuple(p.Segment(pts[i], pts[(i + 1) % 4], "left") for i in range(4))
+        return p.Scene(segs, force=force, lattice={"a1": [1.0, 0.0], "a2": [0.0, 1.0]})
+    return scene
+
+
 def centred(law):
     return lambda p: p.Scene((p.Circle((0.5, 0.5), 0.25, "outside"),), law=law,
                              lattice={"a1": [1.0, 0.0], "a2": [0.0, 1.0]})
@@ -86,6 +96,8 @@ CASES = {  # name -> (case maker, scene of a package, start, velocity or orbits,
     "kernel: circle + gravity": (kernel_case, lambda p: p.Scene([p.Circle((0.0, 0.0), 1.0, "inside")],
                                                                 force=(0.0, -1.0)), (0.1, 0.2), (0.4, 0.1), 2_000_000),
     "kernel: Sinai torus": (kernel_case, lambda p: p.tables.sinai_torus(0.25), (0.45, 0.1), (0.6, 0.8), 10_000_000),
+    "kernel: diamond lattice": (kernel_case, diamond(), (0.1, 0.1), (0.7, 0.31), 5_000_000),
+    "kernel: diamond lattice + gravity": (kernel_case, diamond((0.05, -1.0)), (0.1, 0.1), (0.7, 0.31), 2_000_000),
     "simulate (log): pentagon": (simulate_case, lambda p: p.tables.regular_polygon(5), (0.1, 0.05), (0.83, 0.41),
                                  1_000_000),
     "simulate (log): Sinai box": (simulate_case, lambda p: p.tables.rectangle(1.0, 1.0, disks=[(0.5, 0.5, 0.3)]),

@@ -218,7 +218,10 @@ def _straight_far_walk(far_hit_in_cell):
 
 def _walk(straight, force):
     """:func:`lattice_walk`'s ``walk_hit`` over its walks without and with force."""
-    @jit
+    # inlined: out of line, each collision's call copied ~50 words of array arguments between stack slots,
+    # and in some frame layouts every load of that copy met an aliasing store (the Galton board at 0.6 of its
+    # rate; docs/algorithm.md, "Paying only for what a scene needs")
+    @jit(inline="always")
     def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
                  cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling=INF):
         """:func:`lattice_walk`'s walk (its docstring)."""
