@@ -137,37 +137,33 @@ def _force_walk(search, hand_on=None):
     return walk
 
 
-def _straight_walk(hit_in_cell, _walk_straight_far):
-    """:func:`walk_hit`'s walk without force over the cell search ``hit_in_cell``, on to ``_walk_straight_far``.
+def _straight_walk(search, hand_on=None):
+    """:func:`walk_hit`'s walk without force from cell ``(d1, d2)`` at ``t_in``, each cell by ``search``.
 
-    Written out with its far walk rather than built by :func:`_force_walk`'s kind of factory: so
-    built, it ran the kernel of a diamond lattice at 0.65 of its speed (benchmarks/RESULTS.md).
+    The incremental grid walk: ``alpha(t) = a0 + a1 t`` and ``beta(t) = b0 + b1 t`` are the
+    flight's lattice coordinates; cell ``(d1, d2)`` is left through the face ``d1 + s1/2`` (``s1``
+    the sign of ``a1``) or ``d2 + s2/2``, whichever comes first; on a tie both indices step (a
+    flight through a lattice point).  ``hand_on`` as for :func:`_force_walk`.
     """
-    @jit
-    def _walk_straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
-                       cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling):
-        """:func:`walk_hit` for a flight without force: the incremental grid walk.
+    NEAR = hand_on is not None
+    compile = functools.partial(jit, inline="always") if NEAR else jit
 
-        ``alpha(t) = a0 + a1 t`` and ``beta(t) = b0 + b1 t`` are the flight's lattice
-        coordinates.  Cell ``(d1, d2)`` is left through the face ``d1 + s1/2`` (``s1``
-        the sign of ``a1``) or ``d2 + s2/2``, whichever comes first; on a tie both
-        indices step (a flight through a lattice point).
-        """
+    @compile
+    def walk(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, cur_e, cur_o1, cur_o2, t_limit, extent_tol,
+             max_cells, ceiling, d1, d2, t_in):
+        """The walk (the factory's docstring)."""
         s1 = 1 if a1 > 0.0 else -1
         s2 = 1 if b1 > 0.0 else -1
-        d1 = 0
-        d2 = 0
-        t_in = 0.0
-        ta = _face_time(a0, a1, 0.5 * s1, 0.0) if a1 != 0.0 else INF
-        tb = _face_time(b0, b1, 0.5 * s2, 0.0) if b1 != 0.0 else INF
+        ta = _face_time(a0, a1, d1 + 0.5 * s1, t_in) if a1 != 0.0 else INF
+        tb = _face_time(b0, b1, d2 + 0.5 * s2, t_in) if b1 != 0.0 else INF
         k = 0
         while k < max_cells:
-            if max(abs(d1), abs(d2)) >= FAR_CELLS:  # a long flight goes on out of line, below (its indices never turn
-                break                               # back); a call in this loop cost the walk a third (Galton board)
+            if NEAR and max(abs(d1), abs(d2)) >= FAR_CELLS:  # a long flight goes on out of line (as _force_walk)
+                break
             k += 1
             t_out = min(ta, tb)
-            t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, 0.0, 0.0),
-                                       cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
+            t, e, o1, o2 = search(kinds, params, copies, A, d1, d2, (x, y, vx, vy, 0.0, 0.0),
+                                  cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
             if e >= 0:
                 return t, e, o1, o2, 0
             if t_out >= t_limit:
@@ -179,41 +175,12 @@ def _straight_walk(hit_in_cell, _walk_straight_far):
                 d2 += s2
                 tb = _face_time(b0, b1, d2 + 0.5 * s2, t_out)
             t_in = t_out
-        if k >= max_cells:
-            return INF, -1, 0, 0, 2
-        return _walk_straight_far(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, cur_e, cur_o1, cur_o2,
-                                  t_limit, extent_tol, max_cells - k, ceiling, s1, s2, d1, d2, t_in, ta, tb)
-
-    return _walk_straight
-
-
-
-def _straight_far_walk(far_hit_in_cell):
-    """:func:`walk_hit`'s walk without force past ``FAR_CELLS``, over the far cells' search ``far_hit_in_cell``."""
-    @jit  # not inlined: reached by few flights (as the far walks of disks.py)
-    def _walk_straight_far(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, cur_e, cur_o1, cur_o2, t_limit,
-                           extent_tol, max_cells, ceiling, s1, s2, d1, d2, t_in, ta, tb):
-        """:func:`_walk_straight` from its cell ``(d1, d2)`` on, ``FAR_CELLS`` or more from the start:
-        each cell's copies by :func:`far_hit_in_cell`."""
-        for _ in range(max_cells):
-            t_out = min(ta, tb)
-            t, e, o1, o2 = far_hit_in_cell(kinds, params, copies, A, d1, d2, (x, y, vx, vy, 0.0, 0.0),
-                                           cur_e, cur_o1, cur_o2, t_out, extent_tol, t_in, True, ceiling)
-            if e >= 0:
-                return t, e, o1, o2, 0
-            if t_out >= t_limit:
-                return INF, -1, 0, 0, 1
-            if ta == t_out:
-                d1 += s1
-                ta = _face_time(a0, a1, d1 + 0.5 * s1, t_out)
-            if tb == t_out:
-                d2 += s2
-                tb = _face_time(b0, b1, d2 + 0.5 * s2, t_out)
-            t_in = t_out
+        if NEAR and k < max_cells:  # the face times again from (d1, d2, t_in): the same values (t_in <= both)
+            return hand_on(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, cur_e, cur_o1, cur_o2, t_limit,
+                           extent_tol, max_cells - k, ceiling, d1, d2, t_in)
         return INF, -1, 0, 0, 2
 
-    return _walk_straight_far
-
+    return walk
 
 
 def _walk(straight, force):
@@ -230,7 +197,7 @@ def _walk(straight, force):
         a1, b1 = lattice_coordinates(B, vx, vy)
         if not has_force:
             return straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
-                            cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling)
+                            cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling, 0, 0, 0.0)
         a2, b2 = lattice_coordinates(B, ax, ay)
         return force(kinds, params, copies, A, a0, a1, 0.5 * a2, b0, b1, 0.5 * b2, x, y, vx, vy, ax, ay,
                      cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling, 0, 0, 0.0)
@@ -255,7 +222,7 @@ def lattice_walk(open_ends=True):
     near_falling = cell_search(free_flight.falling, open_ends=open_ends)
     far_falling = cell_search(far_flight.falling, open_ends=open_ends)
     straight = _straight_walk(cell_search(free_flight.straight, open_ends=open_ends),
-                              _straight_far_walk(cell_search(far_flight.straight, open_ends=open_ends)))
+                              hand_on=_straight_walk(cell_search(far_flight.straight, open_ends=open_ends)))
     force = _force_walk(near_falling, hand_on=_force_walk(_by_distance(near_falling, far_falling)))
     return _walk(straight, force)
 
