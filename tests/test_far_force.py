@@ -198,13 +198,13 @@ def far_walk_and_move(lattice, a, slope, t_max=math.inf):
     """The walk's far hit of a corridor flight and :func:`cells.far_move` towards it:
     ``(scene, start, velocity, force, arrays, far, moved)``."""
     from noslipsim._engine.table import kernel_table
-    from noslipsim.core.cells import far_move, walk_hit
+    from noslipsim.core.cells import far_move, lattice_walk
     from noslipsim.core.tolerances import EXTENT_TOL, MAX_CELLS_PER_FLIGHT
 
     scene, q, v, force, _ = corridor_flight(lattice, a, slope, "specular")
     arrays = kernel_table(scene).arrays()[:5]
-    far = walk_hit(*arrays, *q, *v, *force, True, -1, 0, 0, math.inf, EXTENT_TOL * scene.scale,
-                   MAX_CELLS_PER_FLIGHT)
+    far = lattice_walk(falling=True)(*arrays, *q, *v, *force, -1, 0, 0, math.inf, EXTENT_TOL * scene.scale,
+                                     MAX_CELLS_PER_FLIGHT)
     moved = far_move(*arrays[3:5], *q, *v, *force, far[0], t_max)
     return scene, q, v, force, arrays, far, moved
 
@@ -214,7 +214,7 @@ def far_walk_and_move(lattice, a, slope, t_max=math.inf):
 def test_the_moved_start_meets_the_same_copy_near(lattice, a, slope):
     """The walk's far hit (status 2, finite time), then ``far_move``: from the moved start the walk
     finds the same element copy (seen from the new cell) within a cell or two, at the rest of the time."""
-    from noslipsim.core.cells import FAR_CELLS, NEAR_CELLS, walk_hit
+    from noslipsim.core.cells import FAR_CELLS, NEAR_CELLS, lattice_walk
     from noslipsim.core.tolerances import EXTENT_TOL, MAX_CELLS_PER_FLIGHT
 
     scene, q, v, force, arrays, far, moved = far_walk_and_move(lattice, a, slope)
@@ -229,8 +229,8 @@ def test_the_moved_start_meets_the_same_copy_near(lattice, a, slope):
             assert abs(mp.mpf(got) + (k1 * mp.mpf(A[i, 0]) + k2 * mp.mpf(A[i, 1])) - exact) <= EPS * abs(got), i
     assert np.all(np.abs(B @ [x, y]) <= 0.5 + 1e-12)  # in the cell it is re-based onto
     assert (vx, vy) == pytest.approx((v[0] + force[0] * t_move, v[1] + force[1] * t_move), rel=1e-15)
-    near = walk_hit(*arrays, x, y, vx, vy, *force, True, -1, 0, 0, math.inf, EXTENT_TOL * scene.scale,
-                    MAX_CELLS_PER_FLIGHT)
+    near = lattice_walk(falling=True)(*arrays, x, y, vx, vy, *force, -1, 0, 0, math.inf, EXTENT_TOL * scene.scale,
+                                      MAX_CELLS_PER_FLIGHT)
     assert near[4] == 0 and near[1:4] == (e, o1 - k1, o2 - k2), (far, (k1, k2), near)
     assert max(abs(o1 - k1), abs(o2 - k2)) <= NEAR_CELLS + 2
     assert t_move + near[0] == pytest.approx(t_hit, rel=4 * EPS)

@@ -211,7 +211,7 @@ def test_straight_grid_walk_matches_strip_walk(scene, t_limit):
     cell faces included.  Corridor flights walk up to ``t_limit`` cells, far past
     ``FAR_CELLS`` (the exactly re-centred far walks); ``-m stress`` walks 1e6.
     """
-    from noslipsim.core.cells import walk_hit
+    from noslipsim.core.cells import lattice_walk
     from noslipsim.core.tolerances import EXTENT_TOL
 
     kinds, params, copies, A, B, _, _, _ = kernel_table(scene).arrays()
@@ -229,8 +229,8 @@ def test_straight_grid_walk_matches_strip_walk(scene, t_limit):
         phi = rng.uniform(0, 2 * math.pi)
         vx, vy = directions[i % 5] if i % 3 == 0 else (math.cos(phi), math.sin(phi))
         args = (-1, 0, 0, t_limit, EXTENT_TOL * scene.scale, 10_000_000)
-        straight = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, 0.0, 0.0, False, *args)
-        twin = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, 0.0, 0.0, True, *args)
+        straight = lattice_walk(falling=False)(kinds, params, copies, A, B, x, y, vx, vy, 0.0, 0.0, *args)
+        twin = lattice_walk(falling=True)(kinds, params, copies, A, B, x, y, vx, vy, 0.0, 0.0, *args)
         if twin[4] == 2 and twin[0] < math.inf:  # a hit after FAR_CELLS, under a "force": status 2, finite time
             twin = (*twin[:4], 0)
         assert straight[1:] == twin[1:], (x, y, vx, vy, straight, twin)

@@ -183,52 +183,50 @@ def _straight_walk(search, hand_on=None):
     return walk
 
 
-def _walk(straight, force):
-    """:func:`lattice_walk`'s ``walk_hit`` over its walks without and with force."""
+def _walk(walk, FALLING):
+    """:func:`lattice_walk`'s ``walk_hit`` over ``walk``, the walk without force or (``FALLING``) under one."""
     # inlined: out of line, each collision's call copied ~50 words of array arguments between stack slots,
     # and in some frame layouts every load of that copy met an aliasing store (the Galton board at 0.6 of its
     # rate; docs/algorithm.md, "Paying only for what a scene needs")
     @jit(inline="always")
-    def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force,
-                 cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling=INF):
+    def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2, t_limit, extent_tol,
+                 max_cells, ceiling=INF):
         """:func:`lattice_walk`'s walk (its docstring)."""
         # lattice coordinates along the flight: alpha(t) = B[0].q(t), beta(t) = B[1].q(t)
         a0, b0 = lattice_coordinates(B, x, y)
         a1, b1 = lattice_coordinates(B, vx, vy)
-        if not has_force:
-            return straight(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
-                            cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling, 0, 0, 0.0)
+        if not FALLING:
+            return walk(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy,
+                        cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling, 0, 0, 0.0)
         a2, b2 = lattice_coordinates(B, ax, ay)
-        return force(kinds, params, copies, A, a0, a1, 0.5 * a2, b0, b1, 0.5 * b2, x, y, vx, vy, ax, ay,
-                     cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling, 0, 0, 0.0)
+        return walk(kinds, params, copies, A, a0, a1, 0.5 * a2, b0, b1, 0.5 * b2, x, y, vx, vy, ax, ay,
+                    cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells, ceiling, 0, 0, 0.0)
 
     return walk_hit
 
 
 @functools.cache
-def lattice_walk(open_ends=True):
-    """``walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, has_force, cur_e, cur_o1, cur_o2, t_limit,
-    extent_tol, max_cells, ceiling=inf)``: free flight's earliest hit in a periodic scene.
+def lattice_walk(open_ends=True, falling=False):
+    """``walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2, t_limit, extent_tol,
+    max_cells, ceiling=inf)``: free flight's earliest hit in a periodic scene, straight or (``falling``) under
+    the force ``(ax, ay)``; each compiles only its own walk.
 
     Returns ``(t, element, o1, o2, status)``: ``status`` 0 for a hit, 1 when the walk passed
     ``t_limit`` without a hit, 2 when it crossed ``max_cells`` cells without one (an endless
     flight, reported as an escape).  The event loop forms the point of a straight flight's hit
-    ``FAR_CELLS`` or more from the start exactly (:func:`far_hit_point`); under a force
-    (``has_force``) such a hit comes with status 2 and its finite time ``t``, and the event loop
-    moves the flight's start near it (:func:`far_move`) and walks again.  ``ceiling``: the top of
-    a bounded lattice relative to cell 0 (:func:`search.cell_search`); ``inf`` for none.
-    ``open_ends``: the open-end rule compiled in (:func:`search.cell_search`).
+    ``FAR_CELLS`` or more from the start exactly (:func:`far_hit_point`); under a force such a
+    hit comes with status 2 and its finite time ``t``, and the event loop moves the flight's
+    start near it (:func:`far_move`) and walks again.  ``ceiling``: the top of a bounded lattice
+    relative to cell 0 (:func:`search.cell_search`); ``inf`` for none.  ``open_ends``: the
+    open-end rule compiled in (:func:`search.cell_search`).
     """
-    near_falling = cell_search(free_flight.falling, open_ends=open_ends)
-    far_falling = cell_search(far_flight.falling, open_ends=open_ends)
-    straight = _straight_walk(cell_search(free_flight.straight, open_ends=open_ends),
-                              hand_on=_straight_walk(cell_search(far_flight.straight, open_ends=open_ends)))
-    force = _force_walk(near_falling, hand_on=_force_walk(_by_distance(near_falling, far_falling)))
-    return _walk(straight, force)
-
-
-#: Free flight's lattice walk, the open-end rule compiled in.
-walk_hit = lattice_walk()
+    if not falling:
+        return _walk(_straight_walk(cell_search(free_flight.straight, open_ends=open_ends),
+                                    hand_on=_straight_walk(cell_search(far_flight.straight, open_ends=open_ends))),
+                     False)
+    near = cell_search(free_flight.falling, open_ends=open_ends)
+    far = cell_search(far_flight.falling, open_ends=open_ends)
+    return _walk(_force_walk(near, hand_on=_force_walk(_by_distance(near, far))), True)
 
 
 

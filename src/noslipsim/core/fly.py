@@ -116,7 +116,7 @@ def free_search(LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS, FALLING):
     ``OPEN_ENDS``: the open-end rule compiled in (:func:`search.cell_search`); ``FALLING``: under the force
     (a constant: :mod:`free_flight`)."""
     hit_in_cell = cell_search(free_flight.free_flight(FALLING), open_ends=OPEN_ENDS)
-    walk_hit = lattice_walk(OPEN_ENDS)
+    walk_hit = lattice_walk(OPEN_ENDS, FALLING)
 
     @jit(inline="always")
     def search(kinds, params, copies, A, B, lattice, F, cur_e, cur_o1, cur_o2, limit, extent_tol, pin, top):
@@ -124,8 +124,8 @@ def free_search(LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS, FALLING):
         if LATTICE_ALWAYS or (LATTICE_RT and lattice):
             if top < INF and vy >= 0.0 and ay >= 0.0 and _above_top(params, y, top):
                 return INF, -1, 0, 0, True, False, False  # rising above a bounded lattice for good
-            t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, FALLING, cur_e,
-                                                cur_o1, cur_o2, limit, extent_tol, MAX_CELLS_PER_FLIGHT, top)
+            t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, cur_e, cur_o1,
+                                                cur_o2, limit, extent_tol, MAX_CELLS_PER_FLIGHT, top)
             # status 2 with t_hit finite (a hit after the walk got FAR_CELLS from the start, under a force) leaves
             # as an escape: the event loop moves the start near the hit (cells.far_move)
             return t_hit, e, o1, o2, status == 2 or (status == 1 and limit == INF), False, False
