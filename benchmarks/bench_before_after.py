@@ -75,7 +75,7 @@ def many_case(pkg, scene_fn, q0, n_orbits, kw):
 
 
 def diamond(force=(0.0, 0.0)):
-    """The square lattice of diamonds (half-diagonal 0.25): a lattice of segments, walked by ``cells.walk_hit``."""
+    """The square lattice of diamonds (half-diagonal 0.25): a lattice of segments, walked by ``cells.lattice_walk``."""
     def scene(p):
         c, h = 0.5, 0.25
         pts = [(c, c + h), (c + h, c), (c, c - h), (c - h, c)]

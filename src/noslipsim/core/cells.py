@@ -96,9 +96,9 @@ def _by_distance(hit_in_cell, far_hit_in_cell):
 
 
 def _force_walk(search, hand_on=None):
-    """:func:`walk_hit`'s walk under a force from cell ``(d1, d2)`` at ``t_in``, each cell by ``search``.
+    """The walk of :func:`lattice_walk` under a force from cell ``(d1, d2)`` at ``t_in``, each cell by ``search``.
 
-    With ``hand_on`` (the near walk, inlined into :func:`walk_hit`) it stops ``FAR_CELLS`` cells from
+    With ``hand_on`` (the near walk, inlined into ``walk_hit``) it stops ``FAR_CELLS`` cells from
     the start and hands on to ``hand_on`` with the same arguments; without (the far walk, out of line)
     it walks on to ``max_cells`` and reports a hit with status 2 (:func:`lattice_walk`).
     """
@@ -138,7 +138,7 @@ def _force_walk(search, hand_on=None):
 
 
 def _straight_walk(search, hand_on=None):
-    """:func:`walk_hit`'s walk without force from cell ``(d1, d2)`` at ``t_in``, each cell by ``search``.
+    """The walk of :func:`lattice_walk` without force from cell ``(d1, d2)`` at ``t_in``, each cell by ``search``.
 
     The incremental grid walk: ``alpha(t) = a0 + a1 t`` and ``beta(t) = b0 + b1 t`` are the
     flight's lattice coordinates; cell ``(d1, d2)`` is left through the face ``d1 + s1/2`` (``s1``
@@ -227,7 +227,6 @@ def lattice_walk(open_ends=True, falling=False):
     near = cell_search(free_flight.falling, open_ends=open_ends)
     far = cell_search(far_flight.falling, open_ends=open_ends)
     return _walk(_force_walk(near, hand_on=_force_walk(_by_distance(near, far))), True)
-
 
 
 @jit

@@ -168,13 +168,13 @@ _disk_walk_near = _disk_walk(hand_on=_disk_walk())
 def disk_walk(p, A, B, x, y, vx, vy, cur_o1, cur_o2, t_limit, max_cells):
     """First disk hit of the straight flight from ``(x, y)`` (relative to cell 0); one disk ``p`` per cell.
 
-    Walks the cells as :func:`cells.walk_hit` does and tests the disk of each cell but the one
+    Walks the cells as :func:`cells.lattice_walk`'s walk does and tests the disk of each cell but the one
     just hit (in cell ``(cur_o1, cur_o2)``); the disk lies inside its cell, so the first hit found
     is the earliest.  The offset ``d`` from the disk's centre steps by one lattice vector per cell
     along ``INCREMENTAL_CELLS`` cells (each step rounds once), later cells use :func:`_line_disk_far`.
 
     Returns ``(t, o1, o2, hx, hy, status)``: the hit cell, the hit point relative to the centre,
-    and ``status`` as in :func:`cells.walk_hit` (0 hit, 1 past ``t_limit``, 2 past ``max_cells``).
+    and ``status`` as in :func:`cells.lattice_walk` (0 hit, 1 past ``t_limit``, 2 past ``max_cells``).
     """
     vv, ivv, faces, steps, ta, tb = _walk_start(A, B, x, y, vx, vy)
     r = p[2]
@@ -253,7 +253,7 @@ def disks_walk(params, copies, inside, A, B, x, y, vx, vy, cur_e, cur_o1, cur_o2
     from the cell's centre as in :func:`disk_walk`.
 
     Returns ``(t, o1, o2, j, hx, hy, status)``: the walk cell where the hit was found, the copy ``j``
-    hit, the hit point relative to the copy's centre, and ``status`` as in :func:`cells.walk_hit`.
+    hit, the hit point relative to the copy's centre, and ``status`` as in :func:`cells.lattice_walk`.
     """
     vv, ivv, faces, steps, ta, tb = _walk_start(A, B, x, y, vx, vy)
     return _disks_walk_near(params, copies, inside, A, x, y, x, y, vx, vy, vv, ivv, cur_e, cur_o1, cur_o2, 0, 0,

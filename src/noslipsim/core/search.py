@@ -208,7 +208,7 @@ def _strip_exit(face_exit, compile):
 
 
 def _walk_hit(start, hit_in_cell, strip_exit, compile):
-    # inlined into the event loop: out of line, its array arguments are copied each collision (cells.walk_hit)
+    # inlined into the event loop: out of line, its array arguments are copied each collision (cells.lattice_walk)
     @(functools.partial(jit, inline="always") if compile is jit else compile)
     def walk_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells):
         x0, y0 = start(F)
