@@ -40,6 +40,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bits_before_after import diamond_segments
 from package_copy import kernel_call, load_version
 
 NEW = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "noslipsim")
@@ -77,10 +78,7 @@ def many_case(pkg, scene_fn, q0, n_orbits, kw):
 def diamond(force=(0.0, 0.0)):
     """The square lattice of diamonds (half-diagonal 0.25): a lattice of segments, walked by ``cells.lattice_walk``."""
     def scene(p):
-        c, h = 0.5, 0.25
-        pts = [(c, c + h), (c + h, c), (c, c - h), (c - h, c)]
-        segs = tuple(p.Segment(pts[i], pts[(i + 1) % 4], "left") for i in range(4))
-        return p.Scene(segs, force=force, lattice={"a1": [1.0, 0.0], "a2": [0.0, 1.0]})
+        return p.Scene(diamond_segments(p.Segment), force=force, lattice={"a1": [1.0, 0.0], "a2": [0.0, 1.0]})
     return scene
 
 

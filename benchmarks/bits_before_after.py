@@ -23,23 +23,26 @@ import sys
 import numpy as np
 
 
+def diamond_segments(Segment):
+    """The four sides of the diamond about (1/2, 1/2) of half-diagonal 1/4, the table outside, built with
+    ``Segment`` of the package at hand (the current one, or a copy from another commit)."""
+    c, h = 0.5, 0.25
+    pts = [(c, c + h), (c + h, c), (c, c - h), (c - h, c)]
+    return tuple(Segment(pts[i], pts[(i + 1) % 4], "left") for i in range(4))
+
+
 def scenes():
     """Name -> (scene, start position, velocity, spin) of every orbit compared."""
     from noslipsim import Scene, Segment, tables
     disk = 1 / math.sqrt(2)
 
     def diamond(law, g, force=(0.0, 0.0)):  # the square lattice of diamonds
-        c, h = 0.5, 0.25
-        pts = [(c, c + h), (c + h, c), (c, c - h), (c - h, c)]
-        segs = tuple(Segment(pts[i], pts[(i + 1) % 4], "left") for i in range(4))
-        return Scene(segs, law=law, gamma=g, force=force, lattice={"a1": [1.0, 0.0], "a2": [0.0, 1.0]})
+        return Scene(diamond_segments(Segment), law=law, gamma=g, force=force,
+                     lattice={"a1": [1.0, 0.0], "a2": [0.0, 1.0]})
 
     def diamond_box(law, g, force=(0.0, 0.0)):  # plain: a diamond in a box
-        c, h = 0.5, 0.25
-        pts = [(c, c + h), (c + h, c), (c, c - h), (c - h, c)]
-        segs = tuple(Segment(pts[i], pts[(i + 1) % 4], "left") for i in range(4))
         box = tables.rectangle(1.0, 1.0).elements
-        return Scene(segs + tuple(box), law=law, gamma=g, force=force)
+        return Scene(diamond_segments(Segment) + tuple(box), law=law, gamma=g, force=force)
 
     L = [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]
     out = {}

@@ -215,6 +215,7 @@ def test_straight_grid_walk_matches_strip_walk(scene, t_limit):
     from noslipsim.core.tolerances import EXTENT_TOL
 
     kinds, params, copies, A, B, _, _, _ = kernel_table(scene).arrays()
+    straight_walk, falling_walk = lattice_walk(falling=False), lattice_walk(falling=True)
     r = float(params[0, 2])
     rng = np.random.default_rng(11)
     directions = [(1.0, 1e-9), (1.0, -3e-5), (1e-12, 1.0), (1.0, 1.0), (-1.0, 1.0 + 1e-7)]
@@ -229,8 +230,8 @@ def test_straight_grid_walk_matches_strip_walk(scene, t_limit):
         phi = rng.uniform(0, 2 * math.pi)
         vx, vy = directions[i % 5] if i % 3 == 0 else (math.cos(phi), math.sin(phi))
         args = (-1, 0, 0, t_limit, EXTENT_TOL * scene.scale, 10_000_000)
-        straight = lattice_walk(falling=False)(kinds, params, copies, A, B, x, y, vx, vy, 0.0, 0.0, *args)
-        twin = lattice_walk(falling=True)(kinds, params, copies, A, B, x, y, vx, vy, 0.0, 0.0, *args)
+        straight = straight_walk(kinds, params, copies, A, B, x, y, vx, vy, 0.0, 0.0, *args)
+        twin = falling_walk(kinds, params, copies, A, B, x, y, vx, vy, 0.0, 0.0, *args)
         if twin[4] == 2 and twin[0] < math.inf:  # a hit after FAR_CELLS, under a "force": status 2, finite time
             twin = (*twin[:4], 0)
         assert straight[1:] == twin[1:], (x, y, vx, vy, straight, twin)

@@ -186,7 +186,7 @@ def _straight_walk(search, hand_on=None):
 def _walk(walk, FALLING):
     """:func:`lattice_walk`'s ``walk_hit`` over ``walk``, the walk without force or (``FALLING``) under one."""
     # inlined: out of line, each collision's call copied ~50 words of array arguments between stack slots,
-    # and in some frame layouts every load of that copy met an aliasing store (the Galton board at 0.6 of its
+    # and in some frame layouts most loads of that copy met an aliasing store (the Galton board at 0.6 of its
     # rate; docs/algorithm.md, "Paying only for what a scene needs")
     @jit(inline="always")
     def walk_hit(kinds, params, copies, A, B, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2, t_limit, extent_tol,
