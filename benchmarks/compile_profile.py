@@ -22,7 +22,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 
 def pipeline_entries():
-    """The ``table:law:record`` entries of ``KERNELS`` in rules/common.smk (evaluated, not imported)."""
+    """The ``table:law`` entries of ``KERNELS`` in rules/common.smk (evaluated, not imported)."""
     text = open(os.path.join(ROOT, "workflow", "rules", "common.smk"), encoding="utf-8").read()
     block = re.search(r"^KERNELS = (\{.*?^\})", text, re.S | re.M).group(1)
     kernels = eval(compile(ast.parse(block, mode="eval"), "KERNELS", "eval"))  # plain literals and comprehensions
@@ -62,14 +62,13 @@ def main():
     w0, c0 = time.perf_counter(), time.process_time()
     with event.install_recorder("numba:compile") as rec:
         for entry in entries:
-            table, law, record = entry.split(":")
+            table, law = entry.split(":")
             scene, start = table_of[table](law)
             t0 = time.process_time()
-            if record == "log":
-                ns.simulate(scene, start, (0.6, 0.8), 0.1, max_collisions=5)
-            else:
-                ns.simulate_many(scene, [start], [[0.6, 0.8]], [0.1], max_collisions=5,
-                                 record={"none": "final"}.get(record, record), scheduler="sync", progress=False)
+            # as compile_kernels.py: one kernel for every record mode, through both calls that run it
+            ns.simulate(scene, start, (0.6, 0.8), 0.1, max_collisions=5)
+            ns.simulate_many(scene, [start], [[0.6, 0.8]], [0.1], max_collisions=5, record="final",
+                             scheduler="sync", progress=False)
             print(f"  {entry:<36}{time.process_time() - t0:7.1f} s CPU", flush=True)
     wall, cpu = time.perf_counter() - w0, time.process_time() - c0
     print(f"all: {wall:.1f} s wall, {cpu:.1f} s CPU")

@@ -8,6 +8,7 @@ compile to the decisions its old spelling compiled to.
 """
 import itertools
 
+import numpy as np
 import pytest
 
 from noslipsim import Circle, Scene, tables
@@ -148,8 +149,32 @@ def test_the_kernel_table_builds_each_flight():
     # the thermostat on no force flies straight lines (tests/test_thermostat_orbits.py: bit for bit)
     assert kernel_table(box.replace(thermostat="isokinetic")).variant(0).flight == STRAIGHT
     # a disk lattice: the lean loop's fixed slots
-    lean = Variant(True, True, 0, True, False, STRAIGHT, False, False, WHOLE)
+    lean = Variant(True, True, None, True, False, STRAIGHT, False, False, WHOLE)
     assert kernel_table(tables.sinai_torus(0.25)).variant(0) == lean
+
+
+@pytest.mark.parametrize("scene,q", [(tables.regular_polygon(5), (0.1, 0.05)),
+                                     (tables.galton_board(2.0, 0.5, 1.0), (1.0, 0.5)),
+                                     (tables.sinai_torus(0.25), (0.45, 0.1))], ids=["plain", "lattice+force", "disks"])
+def test_every_record_mode_runs_one_kernel(scene, q):
+    """No records, a log and a portrait: one compiled kernel (one compile per scene), reading the mode at
+    run time, and a run without records writes none."""
+    table = kernel_table(scene)
+    kernels = {orbit_kernel(*table.variant(mode)) for mode in (layout.RECORD_NONE, layout.RECORD_LOG,
+                                                                 layout.RECORD_PORTRAIT)}
+    assert len(kernels) == 1
+    start = [[*q, 0.6, -0.8, 0.0]]
+    rec = np.full((1, 50, layout.N_LOG), 7.0)
+    final = run_orbits(table, start, max_collisions=50, mode=layout.RECORD_NONE, rec=rec)
+    assert final[0, 0] == 50 and final[0, 3] == 0 and np.all(rec == 7.0)  # nothing written
+    logged = run_orbits(table, start, max_collisions=50, mode=layout.RECORD_LOG, rec=rec)
+    assert logged[0, 3] == 50 and np.array_equal(logged[:, :3], final[:, :3])
+
+
+@pytest.mark.parametrize("mode", [3, -1])
+def test_a_record_mode_out_of_place_raises(mode):
+    with pytest.raises(ValueError, match="expected a record mode"):
+        kernel_table(tables.regular_polygon(5)).variant(mode)
 
 
 # ------------------------------------------------------------------ impossible spellings

@@ -31,36 +31,28 @@ def stability_common():
 # ---------------------------------------------------------------- kernels
 # Kernel variants each subject's simulations run, compiled by rule compile_kernel (one job per
 # variant) before the simulation jobs fan out, so that parallel jobs never compile one variant twice.
-# An entry is "table:law:record": table in {plain, plain+force, mixed, mixed+force, walls+force, lattice,
+# An entry is "table:law": table in {plain, plain+force, mixed, mixed+force, walls+force, lattice,
 # lattice+force, lattice+thermostat, disks} (disks: disk scatterers on a lattice, no force; lattice+thermostat:
 # a lattice under a force flown with the isokinetic thermostat; mixed, mixed+force: a plain table of mixed laws
-# without and with a force, law the scatterer's, the walls the other one), law in {no-slip, specular}, record in
-# {none, log, portrait}: none for simulate_many's final states and counts, log for simulate() and
-# full collision logs (one kernel), portrait for phase-portrait points.
+# without and with a force, law the scatterer's, the walls the other one), law in {no-slip, specular}.  One
+# kernel serves every record mode (final states, logs, portrait points; _engine/table.py, recording_slot).
 KERNELS = {
     # the boards (lattice) and, for Figure S2's side walls, the walled boards (plain scenes: walls of the pegs'
     # law, or specular walls around no-slip pegs)
-    "galton": ["lattice+force:no-slip:none", "lattice+force:specular:none",
-               "lattice+force:no-slip:log", "lattice+force:specular:log",
-               "plain+force:no-slip:none", "plain+force:specular:none", "mixed+force:no-slip:none"],
+    "galton": ["lattice+force:no-slip", "lattice+force:specular", "plain+force:no-slip", "plain+force:specular",
+               "mixed+force:no-slip"],
     # wedges (simulate, monodromy, the periodic-orbit finder) and the two-disk grids
-    "stability": ["walls+force:no-slip:log", "walls+force:no-slip:none", "plain:no-slip:log", "plain:no-slip:none"],
+    "stability": ["walls+force:no-slip", "plain:no-slip"],
     # the rectangle and polygons; the bouncing ball (half-plane) and the wedges of Figure 6 under gravity
-    "orbits": ["plain:specular:log", "plain:no-slip:log", "walls+force:no-slip:log"],
-    # portraits (lemon, polygons, closed hexagonal cell), first flights (none), Lyapunov runs and twin
-    # orbits (log); the Sinai torus and the force-free hexagonal gas are "disks", the hexagonal gas under a
-    # force "lattice+force" (free fall) or "lattice+thermostat" (Figure 13's readings, Figure S3); the closed
-    # cell of specular walls around the no-slip disk (Figure S3's reading specular_walls) "mixed(+force)";
-    # the specular thermostatted gas beside them (Figure S3's specular_thermostat) "lattice+thermostat:specular"
-    "portraits": [f"{table}:{law}:{record}" for table, law in (("plain", "specular"), ("plain", "no-slip"),
-                                                                ("plain+force", "no-slip"),
-                                                                ("plain+force", "specular"),
-                                                                ("mixed", "no-slip"), ("mixed+force", "no-slip"),
-                                                                ("disks", "no-slip"),
-                                                                ("lattice+force", "no-slip"),
-                                                                ("lattice+thermostat", "no-slip"),
-                                                                ("lattice+thermostat", "specular"))
-                  for record in ("portrait", "none", "log")],
+    "orbits": ["plain:specular", "plain:no-slip", "walls+force:no-slip"],
+    # portraits (lemon, polygons, closed hexagonal cell), first flights, Lyapunov runs and twin orbits; the
+    # Sinai torus and the force-free hexagonal gas are "disks", the hexagonal gas under a force "lattice+force"
+    # (free fall) or "lattice+thermostat" (Figure 13's readings, Figure S3); the closed cell of specular walls
+    # around the no-slip disk (Figure S3's reading specular_walls) "mixed(+force)"; the specular thermostatted
+    # gas beside them (Figure S3's specular_thermostat) "lattice+thermostat:specular"
+    "portraits": ["plain:specular", "plain:no-slip", "plain+force:no-slip", "plain+force:specular", "mixed:no-slip",
+                  "mixed+force:no-slip", "disks:no-slip", "lattice+force:no-slip", "lattice+thermostat:no-slip",
+                  "lattice+thermostat:specular"],
 }
 ALL_KERNELS = sorted({entry for entries in KERNELS.values() for entry in entries})
 

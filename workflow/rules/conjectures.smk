@@ -5,8 +5,7 @@
 
 # the two-disk orbits (plain tables) and the wedges under a force (walls+force), with logs (monodromy,
 # the finder) and simulate_many's records; the polygons and disks under a force of Figure S6 (plain+force)
-KERNELS["conjectures"] = ["plain:no-slip:log", "walls+force:no-slip:log", "walls+force:no-slip:none",
-                          "plain+force:no-slip:log"]
+KERNELS["conjectures"] = ["plain:no-slip", "walls+force:no-slip", "plain+force:no-slip"]
 
 CONJECTURE_DATASETS = {
     "conjectures_launch": dataset("conjectures", "launch.nc", "launch", "conjecture_launch",

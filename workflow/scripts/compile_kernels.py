@@ -1,7 +1,8 @@
 """Compile (or load from numba's cache) one kernel variant the simulations need.
 
-The entry "table:law:record" (KERNELS in rules/common.smk) runs a tiny orbit on a representative scene
-of that kind, which compiles the variant once for every scene of the kind.  Parallel jobs may compile
+The entry "table:law" (KERNELS in rules/common.smk) runs tiny orbits on a representative scene of that
+kind, which compiles the variant once for every scene of the kind and every record mode (one kernel
+reads the mode at run time): simulate() for a log, simulate_many() for final states.  Parallel jobs may compile
 different variants at once: the cache is safe to fill from several processes (core/jit.py).
 """
 import json
@@ -40,23 +41,17 @@ TABLES = {
         thermostat="isokinetic"), (0.0, 0.45)),
     "disks": lambda law: (tables.sinai_torus(0.25, law=law), (0.4, 0.1)),
 }
-#: The record modes of the kernels; "log" runs simulate(), which takes the same kernel as a full log.
-RECORDS = {"none": "final", "portrait": "portrait", "log": None}
-
 entry = snakemake.params.entry
 try:
-    table, law, record = entry.split(":")
+    table, law = entry.split(":")
     scene, start = TABLES[table](law)
-    assert record in RECORDS
-except (ValueError, KeyError, AssertionError):
-    raise ValueError(f"KERNELS entry {entry!r}: expected 'table:law:record' with table in {sorted(TABLES)}, "
-                     f"law in ('no-slip', 'specular'), record in {sorted(RECORDS)}") from None
+except (ValueError, KeyError):
+    raise ValueError(f"KERNELS entry {entry!r}: expected 'table:law' with table in {sorted(TABLES)}, "
+                     f"law in ('no-slip', 'specular')") from None
 t0 = time.perf_counter()
-if RECORDS[record] is None:
-    ns.simulate(scene, start, (0.6, 0.8), 0.1, max_collisions=5)
-else:
-    ns.simulate_many(scene, [start], [[0.6, 0.8]], [0.1], max_collisions=5, record=RECORDS[record],
-                     scheduler="sync", progress=False)
+ns.simulate(scene, start, (0.6, 0.8), 0.1, max_collisions=5)
+ns.simulate_many(scene, [start], [[0.6, 0.8]], [0.1], max_collisions=5, record="final", scheduler="sync",
+                 progress=False)
 seconds = time.perf_counter() - t0
 print(f"{entry}: {seconds:.1f} s", file=sys.stderr)
 with open(snakemake.output[0], "w") as fh:
