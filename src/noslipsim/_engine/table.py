@@ -158,10 +158,10 @@ def recording_slot(mode):
     """The variant's ``mode`` slot for a record mode (validated): ``None``, read at run time, for every one.
 
     No records, a log and a portrait run one kernel, which writes only the records its run asks for:
-    a branch per collision, which costs nothing measurable (0.98 to 1.02 of a kernel with the mode
-    fixed, fresh and cached; benchmarks/RESULTS.md, "One kernel for every record mode"), against a
-    second compile of every scene that both records and does not (about 4 s each; the paper pipeline
-    compiled 11 such pairs).
+    a branch per collision, at 0.97 to 1.01 of a kernel with the mode fixed, fresh and cached (the
+    pentagon, the fastest scene, pays most; benchmarks/RESULTS.md, "One kernel for every record
+    mode"), against a second compile of every scene that both records and does not (about 4 s each;
+    the paper pipeline compiled 11 such pairs).
     """
     mode = int(mode)
     if mode not in (layout.RECORD_NONE, layout.RECORD_LOG, layout.RECORD_PORTRAIT):
