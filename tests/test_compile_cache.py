@@ -93,8 +93,8 @@ def test_a_cache_entry_holding_another_variants_code_is_refused(filled, tmp_path
     proc = probe(["disk:no-slip:final:sync"], cache, check=False)
     assert proc.returncode != 0 and "KernelMismatch" in proc.stderr, proc.stderr[-2000:]
     message = proc.stderr.strip().splitlines()[-1]
-    assert "asked for spin=True, lattice=False, mode=0, disks=False, walls=False, flight=straight," in message
-    assert "reports spin=True, lattice=False, mode=0, disks=False, walls=False, flight=force," in message
+    assert "asked for spin=True, lattice=False, mode=runtime, disks=False, walls=False, flight=straight," in message
+    assert "reports spin=True, lattice=False, mode=runtime, disks=False, walls=False, flight=force," in message
     # an untouched variant in the same cache still runs
     assert probe(["disk:specular:final:sync"], cache) == {"disk:specular:final:sync":
                                                           filled[1]["disk:specular:final:sync"]}

@@ -18,7 +18,7 @@ from . import far_flight, free_flight
 from .exact import lattice_shift_dd, two_prod, two_sum
 from .far_flight import flight_point_dd, minus_shift_dd
 from .geometry import crossing_coefficients, lattice_coordinates, line_value, nearest_cell
-from .jit import jit
+from .jit import inlined, jit
 from .layout import LINE, SEGMENT
 from .roots import quadratic_exit, quadratic_roots
 from .search import cell_search
@@ -103,9 +103,8 @@ def _force_walk(search, hand_on=None):
     it walks on to ``max_cells`` and reports a hit with status 2 (:func:`lattice_walk`).
     """
     NEAR = hand_on is not None
-    compile = functools.partial(jit, inline="always") if NEAR else jit
 
-    @compile
+    @inlined(NEAR)
     def walk(kinds, params, copies, A, a0, a1, a2, b0, b1, b2, x, y, vx, vy, ax, ay, cur_e, cur_o1, cur_o2,
              t_limit, extent_tol, max_cells, ceiling, d1, d2, t_in):
         """The walk; ``alpha(t) = a0 + a1 t + a2 t^2`` and ``beta(t)`` are the flight's lattice coordinates."""
@@ -146,9 +145,8 @@ def _straight_walk(search, hand_on=None):
     flight through a lattice point).  ``hand_on`` as for :func:`_force_walk`.
     """
     NEAR = hand_on is not None
-    compile = functools.partial(jit, inline="always") if NEAR else jit
 
-    @compile
+    @inlined(NEAR)
     def walk(kinds, params, copies, A, a0, a1, b0, b1, x, y, vx, vy, cur_e, cur_o1, cur_o2, t_limit, extent_tol,
              max_cells, ceiling, d1, d2, t_in):
         """The walk (the factory's docstring)."""

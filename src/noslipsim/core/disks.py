@@ -19,7 +19,7 @@ import math
 from .energy import SETTLE_EVERY, settle_whole, state_energy
 from .exact import cross_dd, fma, lattice_shift_dd, offset_dd
 from .geometry import lattice_coordinates, lattice_shift, nearest_cell
-from .jit import SOURCE_STAMP, jit
+from .jit import SOURCE_STAMP, inlined, jit
 from .laws import collide
 from .layout import (
     CIRCLE,
@@ -127,18 +127,12 @@ def _cross(t_out, d1, d2, dx, dy, ta, tb, faces, steps):
     return d1, d2, dx, dy, ta, tb
 
 
-def _compile_walk(near):
-    """A near walk is inlined into its loop; a far walk, reached by few flights, is not (inlined, its code cost
-    the near walk 3 %: benchmarks/RESULTS.md)."""
-    return functools.partial(jit, inline="always") if near else jit
-
-
 def _disk_walk(hand_on=None):
     """:func:`disk_walk`'s walk from its cell ``(d1, d2)`` on: with ``hand_on`` (near) along ``INCREMENTAL_CELLS``
     cells by :func:`_line_disk`, then on in ``hand_on``; without (far) by :func:`_line_disk_far`."""
     NEAR = hand_on is not None
 
-    @_compile_walk(NEAR)
+    @inlined(NEAR)  # the far walk out of line: inlined too, its code cost the near walk 3 % (benchmarks/RESULTS.md)
     def walk(A, ex, ey, dx, dy, vx, vy, ivv, rr, d1, d2, faces, steps, ta, tb, cur_o1, cur_o2, t_limit, max_cells):
         """The walk; ``e``: the start seen from the disk of cell 0, ``d``: the offset in cell ``(d1, d2)``."""
         for _ in range(min(max_cells, INCREMENTAL_CELLS) if NEAR else max_cells):
@@ -208,7 +202,7 @@ def _disks_walk(hand_on=None):
     NEAR = hand_on is not None
     test = _copy_near if NEAR else _copy_far
 
-    @_compile_walk(NEAR)
+    @inlined(NEAR)
     def walk(params, copies, inside, A, x, y, dx, dy, vx, vy, vv, ivv, cur_e, cur_o1, cur_o2, d1, d2, faces, steps,
              ta, tb, found, t_limit, max_cells):
         """The walk; ``found = (t, j, o1, o2, hx, hy)``: the earliest hit so far (``t = inf``: none)."""

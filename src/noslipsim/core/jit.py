@@ -14,6 +14,7 @@ cache that cannot hand back another variant"): a machine-code symbol of its own 
 none of it: every orbit kernel returns the variant it was compiled for, with :data:`SOURCE_STAMP`
 (:mod:`noslipsim.core.variant`), and the caller refuses a result from any other.
 """
+import functools
 import hashlib
 import os
 from pathlib import Path
@@ -143,3 +144,9 @@ def jit(func=None, **overrides):
     if func is None:
         return lambda f: _compile(f, options)
     return _compile(func, options)
+
+
+def inlined(inline):
+    """The decorator of a factory's instance: :func:`jit` inlined at every call site (``inline="always"``)
+    where ``inline`` (a walk near the loop), else :func:`jit` itself (out of line: a far walk few flights take)."""
+    return functools.partial(jit, inline="always") if inline else jit

@@ -44,7 +44,7 @@ import types
 
 from .events import starts_at_open_end
 from .geometry import LINE_GATE, element_box, lattice_coordinates, line_value_exact
-from .jit import jit
+from .jit import inlined, jit
 from .layout import ARC, END_END, END_START, SEGMENT
 
 INF = math.inf
@@ -122,8 +122,8 @@ def cell_search(flight, compile=jit, open_ends=True):
     identity gives its Python source).  ``open_ends=False`` compiles the open-end rule out: a table whose
     segments and arcs all meet at convex junctions (``KernelTable.open_ends``) never needs it.
     """
-    if compile is jit and flight.INLINE:
-        compile = functools.partial(jit, inline="always")
+    if compile is jit:
+        compile = inlined(flight.INLINE)
     return _hit_in_cell(flight.start, flight.at_start, flight.window, flight.window_box, flight.shift,
                         flight.element_exit, flight.GIVES_UP, bool(open_ends), compile)
 
@@ -209,7 +209,7 @@ def _strip_exit(face_exit, compile):
 
 def _walk_hit(start, hit_in_cell, strip_exit, compile):
     # inlined into the event loop: out of line, its array arguments are copied each collision (cells.lattice_walk)
-    @(functools.partial(jit, inline="always") if compile is jit else compile)
+    @(inlined(True) if compile is jit else compile)
     def walk_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells):
         x0, y0 = start(F)
         a0, b0 = lattice_coordinates(B, x0, y0)
