@@ -13,7 +13,7 @@ import pytest
 from invariants import cyclotron_miss
 
 import noslipsim as ns
-from noslipsim import animation, tables
+from noslipsim import animation, cli, tables
 from noslipsim.plot import collision_frames, flight_states, orbit_nodes, orbit_path, view_window
 
 PEG = tables.galton_board(spacing=2.0, radius=0.5, gravity=1.0)
@@ -129,7 +129,7 @@ def test_mp4_is_a_valid_video_with_the_frames(tmp_path):
     assert seconds == pytest.approx(1.0, abs=0.1)
 
 
-def test_mp4_without_any_ffmpeg_says_what_to_install(monkeypatch, tmp_path):
+def test_mp4_without_any_ffmpeg_says_what_to_install(monkeypatch, tmp_path, capsys):
     import builtins
     import shutil
 
@@ -142,8 +142,16 @@ def test_mp4_without_any_ffmpeg_says_what_to_install(monkeypatch, tmp_path):
 
     monkeypatch.setattr(builtins, "__import__", no_imageio)
     monkeypatch.setattr(shutil, "which", lambda name: None)
-    with pytest.raises(RuntimeError, match=r"MP4 needs ffmpeg: pip install 'noslipsim\[animate\]'"):
+    with pytest.raises(FileNotFoundError, match=r"MP4 needs ffmpeg: pip install 'noslipsim\[animate\]'"):
         animation.animate(PEG, [((1.0, 0.0), (0.0, -1.0), 0.0)], tmp_path / "o.mp4", duration=1, fps=2)
+    assert not (tmp_path / "o.mp4").exists()
+    # the command line reports it as the user's to fix (exit 2), not as a bug to report (exit 1)
+    scene = tmp_path / "peg.yaml"
+    PEG.to_yaml(scene)
+    code = cli.main(["animate", str(scene), "--position", "1", "0", "--velocity", "0", "-1", "-n", "2",
+                     "-o", str(tmp_path / "o.mp4")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("noslipsim: error: writing MP4 needs ffmpeg"), err
     assert not (tmp_path / "o.mp4").exists()
 
 

@@ -72,8 +72,9 @@ def ffmpeg_executable():
 
     Raises
     ------
-    RuntimeError
-        When neither exists, with what to install.
+    FileNotFoundError
+        When neither exists, with what to install (an environment's missing tool, which the
+        command line reports as a user error, not as a bug).
     """
     try:
         import imageio_ffmpeg
@@ -84,7 +85,7 @@ def ffmpeg_executable():
     found = shutil.which("ffmpeg")
     if found:
         return found
-    raise RuntimeError("writing MP4 needs ffmpeg: pip install 'noslipsim[animate]' (imageio-ffmpeg ships one) "
+    raise FileNotFoundError("writing MP4 needs ffmpeg: pip install 'noslipsim[animate]' (imageio-ffmpeg ships one) "
                        "or install the system's ffmpeg; a .gif needs neither")
 
 
