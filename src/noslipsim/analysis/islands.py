@@ -67,7 +67,7 @@ from ..initial import rng_from
 from ..scenes import Scene
 from .lyapunov import lyapunov_run
 from .portraits import birkhoff_states, reduced_states
-from .section import require_free_fall
+from .section import TWIN_LYAPUNOV, require_free_fall
 
 __all__ = [
     "REGULAR_THRESHOLD",
@@ -278,7 +278,7 @@ def finite_time_lyapunov(scene: Scene, positions, velocities, spins=None, *, n_c
         or escapes before ``N`` collisions.
     """
     scene = _scene(scene)
-    require_free_fall(scene, "finite_time_lyapunov")  # before the per-orbit NaN for corners
+    require_free_fall(scene, "finite_time_lyapunov", TWIN_LYAPUNOV)  # before the per-orbit NaN for corners
     q, v, w = _orbit_starts(positions, velocities, spins)
     n_collisions = count(n_collisions, "n_collisions", minimum=9)
     num_workers = count(num_workers, "num_workers")

@@ -35,7 +35,7 @@ from ..core import layout
 from ..scenes import Scene
 from ..simulate import check_start, run_one
 from .monodromy import _period
-from .section import require_free_fall
+from .section import TWIN_LYAPUNOV, require_free_fall
 from .tangent import check_no_corner, log_block_products
 
 __all__ = ["lyapunov", "lyapunov_run"]
@@ -104,7 +104,7 @@ def lyapunov_run(scene: Scene, position, velocity, spin=0.0, *, max_time=1e4, n_
     """
     if not isinstance(scene, Scene):
         raise ValueError(f"scene: expected a noslipsim.Scene, got {type(scene).__name__}")
-    require_free_fall(scene, "lyapunov")
+    require_free_fall(scene, "lyapunov", TWIN_LYAPUNOV)
     max_time = finite_float(max_time, "max_time") if max_time != math.inf else math.inf
     if not max_time > 0.0:
         raise ValueError(f"max_time: must be > 0, got {max_time}")

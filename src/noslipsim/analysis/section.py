@@ -34,20 +34,25 @@ from ..core.batch import F_NREC, F_STOP
 from ..scenes import Scene
 from ..simulate import check_limits, check_start, run_one
 
+#: What computes a Lyapunov exponent for any flight, for the free-fall tools' refusal to say.
+TWIN_LYAPUNOV = "noslipsim.analysis.twin_lyapunov (twin orbits) serves every flight"
 
-def require_free_fall(scene: Scene, what):
+
+def require_free_fall(scene: Scene, what, instead=""):
     """Refuse a thermostatted or magnetic scene by name: ``what`` assumes parabolic flights (energy ``|v|^2/2 - a.q``).
 
     The isokinetic thermostat (``Scene.thermostat``) and a magnetic field
     (``Scene.magnetic``) bend flights along other paths; the tangent maps and
     the energy-surface coordinates here are derived for free fall only.
+    ``instead``: what serves such a scene, appended to the message.
     """
+    tail = f"; {instead}" if instead else ""
     if scene.thermostat is not None and scene.force != (0.0, 0.0):
         raise ValueError(f"scene: {what} is derived for free fall under the force; it does not support "
-                         f"thermostat {scene.thermostat!r}")
+                         f"thermostat {scene.thermostat!r}{tail}")
     if scene.magnetic != 0.0:
         raise ValueError(f"scene: {what} is derived for free fall under the force; it does not support "
-                         f"a magnetic field (magnetic = {scene.magnetic})")
+                         f"a magnetic field (magnetic = {scene.magnetic}){tail}")
 
 
 def boundary_frames(scene: Scene, element, s):
