@@ -85,8 +85,8 @@ def ffmpeg_executable():
     found = shutil.which("ffmpeg")
     if found:
         return found
-    raise FileNotFoundError("writing MP4 needs ffmpeg: pip install 'noslipsim[animate]' (imageio-ffmpeg ships one) "
-                       "or install the system's ffmpeg; a .gif needs neither")
+    raise FileNotFoundError("writing MP4 needs ffmpeg: pip install 'noslipsim[animate]' (imageio-ffmpeg ships "
+                            "one) or install the system's ffmpeg; a .gif needs neither")
 
 
 def _write_gif(frames, path, fps, _ffmpeg=None):
