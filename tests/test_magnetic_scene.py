@@ -128,6 +128,33 @@ def test_cli_simulates_a_field(tmp_path, capsys):
         assert json.loads(ds.attrs["scene"])["magnetic"] == 1.5
 
 
+def test_cli_lyapunov_of_a_field_from_a_twin_orbit(tmp_path, capsys):
+    """``noslipsim lyapunov --twin``: the exponent twin_lyapunov gives (the same seed, the same bits), per unit
+    time through the orbit's own time over its collisions; the tangent method refuses, naming the twin."""
+    import xarray as xr
+
+    from noslipsim.analysis import twin_lyapunov
+
+    path, out = tmp_path / "box.yaml", tmp_path / "lyapunov.nc"
+    MAGNETIC.to_yaml(path)
+    start = ["--position", "0.4", "0.3", "--velocity", "0.7", "0.5"]
+    assert main(["lyapunov", str(path), *start, "-n", "398", "--twin", "-o", str(out)]) == 0
+    want = twin_lyapunov(MAGNETIC, [START[0]], [START[1]], n_collisions=398)[0]
+    t_n = float(simulate(MAGNETIC, *START, max_collisions=400).t[-1])  # 398 rounded up to whole blocks of 4
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["lyapunov_method"] == "twin" and int(ds.n_collisions) == 400
+        assert float(ds.lyapunov_per_collision) == want > 0.0  # the Sinai box in a field is chaotic
+        assert float(ds.lyapunov_exponent) == pytest.approx(want * 400 / t_n, rel=1e-15)
+        assert float(ds.mean_free_time) == pytest.approx(t_n / 400, rel=1e-15)
+    assert "twin orbit" in capsys.readouterr().out
+    # without -n, with a figure, or without --twin: a user error (exit 2) that says why
+    for extra, words in ((["--twin"], "give -n"), (["-n", "40", "--twin", "--figure", str(tmp_path / "f.png")],
+                                                   "no running estimate"),
+                         (["-n", "40"], "twin_lyapunov (twin orbits) serves every flight")):
+        assert main(["lyapunov", str(path), *start, *extra, "-o", str(out)]) == 2
+        assert words in capsys.readouterr().err
+
+
 def test_cli_says_pinned(tmp_path, capsys):
     path = tmp_path / "box.yaml"
     tables.rectangle(20.0, 20.0).replace(magnetic=4.0).to_yaml(path)

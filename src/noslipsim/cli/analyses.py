@@ -71,6 +71,9 @@ def add_commands(sub, debug):
     _orbit_arguments(ly, default_n=0)
     ly.add_argument("--max-time", type=float, default=1e4, help="run length in time (default 1e4; "
                                                                  "ignored with -n)")
+    ly.add_argument("--twin", action="store_true",
+                    help="measure it from a renormalised twin orbit (analysis.twin_lyapunov) instead: any flight, "
+                         "a magnetic field and the isokinetic thermostat included; needs -n, draws no figure")
     ly.add_argument("-o", "--output", required=True, help="netCDF file to write")
     ly.add_argument("--figure", help="also draw the running estimate against time (.png, .pdf, .svg)")
     ly.add_argument("--debug", **debug)
@@ -277,6 +280,8 @@ def lyapunov(args):
     from ..scenes import Scene
 
     scene = Scene.from_yaml(args.scene)
+    if args.twin:
+        return _twin_lyapunov(args, scene)
     n = args.max_collisions if args.max_collisions > 0 else None
     run = _start_errors(lyapunov_run, scene, args.position, args.velocity, args.spin, max_time=args.max_time,
                         n_collisions=n)
@@ -298,3 +303,41 @@ def lyapunov(args):
         _figure(args.figure, draw)
     print(f"lambda = {run['exponent']:.6g} per unit time ({run['per_collision']:.6g} per collision, "
           f"{run['n_collisions']} collisions); wrote {args.output}" + (f" and {args.figure}" if args.figure else ""))
+
+
+def _twin_lyapunov(args, scene):
+    """``noslipsim lyapunov --twin``: the exponent from a twin orbit (:func:`noslipsim.analysis.twin_lyapunov`).
+
+    The twin gives the exponent per collision over ``N`` collisions (``-n`` rounded up to whole blocks);
+    the orbit's own time over those collisions, ``t_N``, turns it into one per unit time,
+    ``lambda_coll N / t_N``.  An orbit or twin that stops before ``N`` collisions has no exponent: an error.
+    """
+    import xarray as xr
+
+    from .._metadata import annotate
+    from ..analysis.islands import TWIN_BLOCK, twin_lyapunov
+    from ..io import write_dataset
+    from ..simulate import simulate
+
+    if args.max_collisions <= 0:
+        raise ValueError("-n: --twin runs a number of collisions; give -n (a positive count)")
+    if args.figure:
+        raise ValueError("--figure: --twin has no running estimate to draw")
+    per_collision = float(_start_errors(twin_lyapunov, scene, [args.position], [args.velocity], [args.spin],
+                                        n_collisions=args.max_collisions)[0])
+    n = -(-args.max_collisions // TWIN_BLOCK) * TWIN_BLOCK
+    if math.isnan(per_collision):
+        raise ValueError(f"the orbit or its twin stopped before {n} collisions (an escape, a corner, a graze or "
+                         "the search limit): no exponent; try another start or a smaller -n")
+    elapsed = float(simulate(scene, args.position, args.velocity, args.spin, max_collisions=n).t[-1])
+    exponent = per_collision * n / elapsed
+    ds = xr.Dataset({"lyapunov_exponent": ((), exponent, {"long_name": "largest Lyapunov exponent of the orbit "
+                                                          "per unit time (twin orbit: per collision x N / t_N)"}),
+                     "lyapunov_per_collision": ((), per_collision),
+                     "mean_free_time": ((), elapsed / n),
+                     "n_collisions": ((), n)})
+    ds.attrs.update(title="largest Lyapunov exponent", lyapunov_method="twin", scene=scene.to_json(), law=scene.law,
+                    gamma=scene.gamma)
+    write_dataset(annotate(ds), args.output, config=_config(args, "lyapunov"))
+    print(f"lambda = {exponent:.6g} per unit time ({per_collision:.6g} per collision, {n} collisions, twin orbit); "
+          f"wrote {args.output}")
