@@ -175,8 +175,8 @@ VARIABLES = {
                          "(lambda + 1/lambda = 2)", "rad"),
     "theta_parallel": ("pi/2 - phi: launch parallel to the far wall", "rad"),
     # ------------------------------------------------ noslipsim lyapunov (a scene file's orbit)
-    "lyapunov_exponent": ("largest Lyapunov exponent of the orbit per unit time (Benettin, exact tangent map)",
-                          "1"),
+    "lyapunov_exponent": ("largest Lyapunov exponent of the orbit per unit time (Benettin; the lyapunov_method "
+                          "attribute says how: tangent, the exact tangent map, or twin, a twin orbit)", "1"),
     "lyapunov_per_collision": ("largest Lyapunov exponent of the collision map, per collision", "1"),
     "lyapunov_running": ("running estimate of the largest Lyapunov exponent per unit time after each block", "1"),
     "elapsed_time": ("time from the first collision to the end of each block of the Lyapunov run", "1"),

@@ -291,7 +291,8 @@ def lyapunov(args):
                      "lyapunov_per_collision": ((), float(run["per_collision"])),
                      "mean_free_time": ((), float(run["mean_free_time"])),
                      "n_collisions": ((), int(run["n_collisions"]))})
-    ds.attrs.update(title="largest Lyapunov exponent", scene=scene.to_json(), law=scene.law, gamma=scene.gamma)
+    ds.attrs.update(title="largest Lyapunov exponent", lyapunov_method="tangent", scene=scene.to_json(), law=scene.law,
+                    gamma=scene.gamma)
     write_dataset(annotate(ds), args.output, config=_config(args, "lyapunov"))
     if args.figure:
         def draw(ax):
@@ -331,8 +332,7 @@ def _twin_lyapunov(args, scene):
                          "the search limit): no exponent; try another start or a smaller -n")
     elapsed = float(simulate(scene, args.position, args.velocity, args.spin, max_collisions=n).t[-1])
     exponent = per_collision * n / elapsed
-    ds = xr.Dataset({"lyapunov_exponent": ((), exponent, {"long_name": "largest Lyapunov exponent of the orbit "
-                                                          "per unit time (twin orbit: per collision x N / t_N)"}),
+    ds = xr.Dataset({"lyapunov_exponent": ((), exponent),  # per collision x N / t_N
                      "lyapunov_per_collision": ((), per_collision),
                      "mean_free_time": ((), elapsed / n),
                      "n_collisions": ((), n)})
