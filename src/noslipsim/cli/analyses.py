@@ -317,8 +317,8 @@ def _twin_lyapunov(args, scene):
 
     from .._metadata import annotate
     from ..analysis.islands import TWIN_BLOCK, twin_lyapunov
+    from ..ensemble import simulate_many
     from ..io import write_dataset
-    from ..simulate import simulate
 
     if args.max_collisions <= 0:
         raise ValueError("-n: --twin runs a number of collisions; give -n (a positive count)")
@@ -330,7 +330,9 @@ def _twin_lyapunov(args, scene):
     if math.isnan(per_collision):
         raise ValueError(f"the orbit or its twin stopped before {n} collisions (an escape, a corner, a graze or "
                          "the search limit): no exponent; try another start or a smaller -n")
-    elapsed = float(simulate(scene, args.position, args.velocity, args.spin, max_collisions=n).t[-1])
+    # the orbit's time at its N-th collision: its final state (no log of N rows)
+    elapsed = float(simulate_many(scene, [args.position], [args.velocity], [args.spin], max_collisions=n,
+                                  record="final", scheduler="sync", progress=False).t_final[0])
     exponent = per_collision * n / elapsed
     ds = xr.Dataset({"lyapunov_exponent": ((), exponent),  # per collision x N / t_N
                      "lyapunov_per_collision": ((), per_collision),
