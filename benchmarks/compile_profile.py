@@ -30,16 +30,17 @@ def pipeline_entries():
 
 
 def tables():
-    """``TABLES`` of workflow/scripts/compile_kernels.py (the representative scene of each kind)."""
+    """``(TABLES, warm)`` of workflow/scripts/compile_kernels.py: the representative scene of each kind, and the
+    calls that compile its kernel."""
     text = open(os.path.join(ROOT, "workflow", "scripts", "compile_kernels.py"), encoding="utf-8").read()
     start = text.index("TABLES = {")
-    end = text.index("\n}\n", start) + 3
+    end = text.index("\nentry = ", start)
     import noslipsim as ns
     from noslipsim import tables as tbl
 
     space = {"ns": ns, "tables": tbl}
     exec(text[start:end], space)
-    return space["TABLES"]
+    return space["TABLES"], space["warm"]
 
 
 def main():
@@ -53,11 +54,10 @@ def main():
     from machine import machine_line
     from numba.core import event
 
-    import noslipsim as ns
 
     print(machine_line(numpy=True, load=True))
     entries = [e for e in pipeline_entries() if args.only in e]
-    table_of = tables()
+    table_of, warm = tables()
     print(f"{len(entries)} pipeline entries, empty cache {os.environ['NUMBA_CACHE_DIR']}")
     w0, c0 = time.perf_counter(), time.process_time()
     with event.install_recorder("numba:compile") as rec:
@@ -65,10 +65,7 @@ def main():
             table, law = entry.split(":")
             scene, start = table_of[table](law)
             t0 = time.process_time()
-            # as compile_kernels.py: one kernel for every record mode, through both calls that run it
-            ns.simulate(scene, start, (0.6, 0.8), 0.1, max_collisions=5)
-            ns.simulate_many(scene, [start], [[0.6, 0.8]], [0.1], max_collisions=5, record="final",
-                             scheduler="sync", progress=False)
+            warm(scene, start)  # as compile_kernels.py: one kernel for every record mode
             print(f"  {entry:<36}{time.process_time() - t0:7.1f} s CPU", flush=True)
     wall, cpu = time.perf_counter() - w0, time.process_time() - c0
     print(f"all: {wall:.1f} s wall, {cpu:.1f} s CPU")

@@ -269,6 +269,16 @@ def test_twin_exponents_of_thermostatted_flights():
     assert not np.array_equal(one, zero)
 
 
+def test_twin_runs_whole_blocks_as_twin_collisions_says():
+    """The command line's N (``twin_collisions``) is the count the twin ran: 9 collisions run as 12."""
+    assert [islands.twin_collisions(n, 4) for n in (4, 5, 8, 9)] == [4, 8, 8, 12]
+    scene = tables.sinai_torus(0.3)
+    args = ([(0.0, 0.45)], [(0.6, 0.8)])
+    nine = islands.twin_lyapunov(scene, *args, n_collisions=9, block=4)
+    assert np.array_equal(nine, islands.twin_lyapunov(scene, *args, n_collisions=12, block=4))
+    assert not np.array_equal(nine, islands.twin_lyapunov(scene, *args, n_collisions=8, block=4))
+
+
 def test_twin_refuses_bad_input():
     scene = tables.sinai_torus(0.45)
     q, v = [(0.5, 0.0)], [(1.0, 0.1)]

@@ -41,6 +41,15 @@ TABLES = {
         thermostat="isokinetic"), (0.0, 0.45)),
     "disks": lambda law: (tables.sinai_torus(0.25, law=law), (0.4, 0.1)),
 }
+
+
+def warm(scene, start):
+    """Compile (or load) ``scene``'s kernel through both calls that run it: simulate() and simulate_many()."""
+    ns.simulate(scene, start, (0.6, 0.8), 0.1, max_collisions=5)
+    ns.simulate_many(scene, [start], [[0.6, 0.8]], [0.1], max_collisions=5, record="final", scheduler="sync",
+                     progress=False)
+
+
 entry = snakemake.params.entry
 try:
     table, law = entry.split(":")
@@ -49,9 +58,7 @@ except (ValueError, KeyError):
     raise ValueError(f"KERNELS entry {entry!r}: expected 'table:law' with table in {sorted(TABLES)}, "
                      f"law in ('no-slip', 'specular')") from None
 t0 = time.perf_counter()
-ns.simulate(scene, start, (0.6, 0.8), 0.1, max_collisions=5)
-ns.simulate_many(scene, [start], [[0.6, 0.8]], [0.1], max_collisions=5, record="final", scheduler="sync",
-                 progress=False)
+warm(scene, start)
 seconds = time.perf_counter() - t0
 print(f"{entry}: {seconds:.1f} s", file=sys.stderr)
 with open(snakemake.output[0], "w") as fh:

@@ -314,6 +314,11 @@ def _cells_on(scene, points, elements):
     return cells
 
 
+def twin_collisions(n_collisions, block=TWIN_BLOCK):
+    """The collisions :func:`twin_lyapunov` runs for ``n_collisions``: rounded up to whole blocks."""
+    return -(-n_collisions // block) * block
+
+
 def twin_lyapunov(scene: Scene, positions, velocities, spins=None, *, n_collisions=2000, block=TWIN_BLOCK,
                   separation=TWIN_SEPARATION, seed=0, num_workers=None):
     r"""Finite-time largest Lyapunov exponent per collision from a twin orbit, for any flight type.
@@ -391,6 +396,7 @@ def twin_lyapunov(scene: Scene, positions, velocities, spins=None, *, n_collisio
     alive = np.ones(n, dtype=bool)
     done = 0
     cap = math.log(TWIN_NONLINEAR / separation)
+    n_collisions = twin_collisions(n_collisions, block)
     while done < n_collisions and alive.any():
         idx = np.flatnonzero(alive)
         m = len(idx)

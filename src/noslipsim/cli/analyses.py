@@ -316,7 +316,7 @@ def _twin_lyapunov(args, scene):
     import xarray as xr
 
     from .._metadata import annotate
-    from ..analysis.islands import TWIN_BLOCK, twin_lyapunov
+    from ..analysis.islands import twin_collisions, twin_lyapunov
     from ..ensemble import simulate_many
     from ..io import write_dataset
 
@@ -326,7 +326,7 @@ def _twin_lyapunov(args, scene):
         raise ValueError("--figure: --twin has no running estimate to draw")
     per_collision = float(_start_errors(twin_lyapunov, scene, [args.position], [args.velocity], [args.spin],
                                         n_collisions=args.max_collisions)[0])
-    n = -(-args.max_collisions // TWIN_BLOCK) * TWIN_BLOCK
+    n = twin_collisions(args.max_collisions)
     if math.isnan(per_collision):
         raise ValueError(f"the orbit or its twin stopped before {n} collisions (an escape, a corner, a graze or "
                          "the search limit): no exponent; try another start or a smaller -n")

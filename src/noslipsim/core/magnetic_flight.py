@@ -26,8 +26,9 @@ from .magnetic import (
 from .search import leading_point, reach_box
 
 INF = math.inf
-#: The search is compiled once, called per cell.
-INLINE = False
+#: The search is inlined where it is called, with each element's exit in it: called out of line, the
+#: arrays it is passed cost about a fifth of a magnetic collision (benchmarks/RESULTS.md).
+INLINE = True
 #: Every exit is one closed-form root: nothing gives up.
 GIVES_UP = False
 
@@ -82,7 +83,7 @@ def window_box(F, G, lo, hi, extent_tol):
 shift = copy_shift
 
 
-@jit
+@jit(inline="always")
 def element_exit(kind, p, G, S, deflate, lo, hi, extent_tol):
     """The exit root in ``(lo, hi]`` through the element copy shifted by ``S[:2]``, within its extent, or inf.
 
