@@ -14,8 +14,9 @@ from noslipsim import simulate, simulate_many, tables
 from noslipsim._engine.run import run_orbits
 from noslipsim._engine.table import kernel_table
 from noslipsim.analysis import twin_lyapunov
-from noslipsim.core import layout, variant
+from noslipsim.core import layout, magnetic_flight, search, variant
 from noslipsim.core.batch import F_VARIANT
+from noslipsim.core.tolerances import EXTENT_TOL, MAX_CELLS_PER_FLIGHT
 from noslipsim.experiments import phase_portrait
 from noslipsim.reference import simulate_reference
 
@@ -60,6 +61,36 @@ def test_sinai_torus_against_the_twin(W):
     """A lattice: the walk's faces are closed-form exits of the cyclotron path too."""
     torus = tables.sinai_torus(0.3).replace(magnetic=W)
     _agree(torus, (0.0, 0.45), (1.0, 0.3), 0.0, 12, tol=1e-9)
+
+
+def test_box_search_finds_the_walks_hit():
+    """A closed path over a few cells searches them all (search.box_search); the walk its faces: the same copy,
+    the same time to rounding, pinned alike; a box over more than BOX_COPIES copies is left to the walk."""
+    table = kernel_table(tables.sinai_torus(0.2))
+    kinds, params, copies, A, B = table.arrays()[:5]
+    tol = EXTENT_TOL * table.scale
+    box_hit = search.box_search(magnetic_flight)
+    walk_hit = search.event_search(magnetic_flight)[1]
+    rng = np.random.default_rng(4)
+    searched = pinned = 0
+    for _ in range(300):
+        W = rng.choice([-1, 1]) * 10 ** rng.uniform(-1.5, 1.0)
+        x, y = rng.uniform(-0.5, 0.5, 2)
+        a = rng.uniform(0, 2 * math.pi)
+        F = (x, y, math.cos(a), math.sin(a), W)
+        if math.hypot(x, y) < 0.21:
+            continue
+        period = 2 * math.pi / abs(W)
+        got = box_hit(kinds, params, copies, A, B, F, -1, 0, 0, period, tol)
+        want = walk_hit(kinds, params, copies, A, B, F, -1, 0, 0, period, tol, MAX_CELLS_PER_FLIGHT)
+        if got[4] == 2:  # the box is too large: nothing searched
+            assert (2 / abs(W) + 1) ** 2 > search.BOX_COPIES and got[:4] == (math.inf, -1, 0, 0)
+            continue
+        searched += 1
+        pinned += got[4] == 1
+        assert got[1:] == want[1:]
+        assert got[0] == pytest.approx(want[0], rel=1e-12)
+    assert searched > 100 and 0 < pinned < searched
 
 
 @pytest.mark.parametrize("x, y, phi, omega, pinned", ISPINNED_CASES)

@@ -26,7 +26,7 @@ from .jit import jit
 from .layout import LONG_WALL, STOP_ESCAPE, STOP_LEVEL, STOP_MAX_TIME, STOP_PINNED, STOP_SEARCH_LIMIT
 from .magnetic import period as magnetic_period
 from .roots import quadratic_exit
-from .search import SEARCH_FAILED, cell_search, event_search, long_wall_hit
+from .search import SEARCH_FAILED, box_search, cell_search, event_search, long_wall_hit
 from .thermostat import field
 from .thermostat import flight as thermo_path
 from .tolerances import MAX_CELLS_PER_FLIGHT
@@ -165,16 +165,22 @@ def free_land(WALLS, FALLING):
 @functools.cache
 def closed_form_search(flight, pinning, OPEN_ENDS):
     """A closed-form flight's next hit (:func:`search.event_search`); ``pinning``: its path is closed (one period
-    ``pin`` walked at most, and a plain table's miss is a path that meets nothing); ``OPEN_ENDS`` as for free
-    flight."""
+    ``pin`` searched at most, on a lattice over the cells its box covers where they are few,
+    :func:`search.box_search`; a miss is a path that meets nothing); ``OPEN_ENDS`` as for free flight."""
     hit_in_cell, walk_hit, _ = event_search(flight, open_ends=OPEN_ENDS)
+    box_hit = box_search(flight, open_ends=OPEN_ENDS) if pinning else None
 
     @jit(inline="always")
     def search(kinds, params, copies, A, B, lattice, F, cur_e, cur_o1, cur_o2, limit, extent_tol, pin, top):
         if lattice:
             limit = min(limit, pin)
-            t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, limit,
-                                                extent_tol, MAX_CELLS_PER_FLIGHT)
+            status = 2
+            if pinning:  # a closed path over a few cells: search them all
+                t_hit, e, o1, o2, status = box_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, limit,
+                                                   extent_tol)
+            if status == 2:
+                t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, limit,
+                                                    extent_tol, MAX_CELLS_PER_FLIGHT)
             if pinning:
                 return t_hit, e, o1, o2, status == 2, status == 1 and limit == pin, False
             return t_hit, e, o1, o2, status == 2 or (status == 1 and limit == INF), False, e == SEARCH_FAILED

@@ -14,6 +14,7 @@ from .jit import jit
 from .layout import ARC, LINE, SEGMENT
 from .magnetic import (
     advance,
+    centre,
     circle_coefficients_at,
     exit_after,
     exit_root,
@@ -50,6 +51,18 @@ def speed_bound(vx, vy):
     if not 1e-280 < s2 < 1e280:
         return INF
     return math.sqrt(s2)
+
+
+@jit(inline="always")
+def path_box(F):
+    """The cyclotron circle's box (:func:`search.box_search`), widened by ``1e-9`` of its size and place, far
+    more than the path's rounding; a straight flight (``W = 0``) has none (infinite)."""
+    x, y, vx, vy, W = F
+    if W == 0.0:
+        return -INF, -INF, INF, INF
+    mx, my, rho = centre(x, y, vx, vy, W)
+    rho += 1e-9 * (rho + abs(mx) + abs(my))
+    return mx - rho, my - rho, mx + rho, my + rho
 
 
 @jit(inline="always")

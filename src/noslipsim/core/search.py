@@ -32,6 +32,9 @@ The closed-form flights' walk and long-wall hit (:func:`event_search`) ask three
 ``line_exit(F, f0, nx, ny)``                        the first exit root in ``(0, inf)`` of that function
 =================================================  ==========================================================
 
+A closed path (the magnetic field's) gives ``path_box(F)``, ``(x0, y0, x1, y1)``, a box it stays in, for the
+search over the cells it covers (:func:`box_search`).
+
 Free flight (:mod:`free_flight`, and :mod:`far_flight` for cells far from the start), the
 thermostat (:mod:`thermo_flight`) and the magnetic field (:mod:`magnetic_flight`) are such flights.
 Free flight keeps its own tuned cell walks (:mod:`cells`: an incremental grid walk without force,
@@ -41,6 +44,8 @@ cell's copies it searches with :func:`cell_search` (docs/extending.md, "A flight
 import functools
 import math
 import types
+
+import numpy as np
 
 from .events import starts_at_open_end
 from .geometry import LINE_GATE, element_box, lattice_coordinates, line_value_exact
@@ -238,6 +243,65 @@ def _walk_hit(start, hit_in_cell, strip_exit, compile):
         return INF, -1, 0, 0, 2
 
     return walk_hit
+
+
+#: Most element copies (cells the box covers times copies per cell) :func:`box_search` searches rather than
+#: walk: below where the two cost the same, about 20, on Sinai tori of one and five copies a cell
+#: (benchmarks/RESULTS.md).
+BOX_COPIES = 16
+
+
+@functools.cache
+def box_search(flight, compile=jit, open_ends=True):
+    """``box_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, t_limit, extent_tol)`` for a flight whose
+    path is closed: the earliest hit over every cell its box covers, without a walk.
+
+    ``flight.path_box(F)``: ``(x0, y0, x1, y1)``, a box the whole path stays in (infinite: none).  A closed path
+    meets each copy at one exit root per period, so the earliest over the copies of the cells it covers, each
+    solved from ``t = 0`` with no window to re-base, is the walk's hit; it spares the walk's face exits, which
+    cost a closed form of their own per cell.  ``(t, element, o1, o2, status)``: status 0 hit, 1 none by
+    ``t_limit``, 2 a box over more than :data:`BOX_COPIES` copies (nothing searched: walk), 3 a search gave up.
+    """
+    return _box_hit(flight.path_box, cell_search(flight, compile, open_ends), compile)
+
+
+@jit(inline="always")
+def _cell_range(b1, b2, x0, y0, x1, y1, margin):
+    """``(lo, n)``: the first of the ``n`` cells along the lattice coordinate ``b . q`` that the box reaches."""
+    lo = b1 * (x0 if b1 > 0.0 else x1) + b2 * (y0 if b2 > 0.0 else y1) - margin
+    hi = b1 * (x1 if b1 > 0.0 else x0) + b2 * (y1 if b2 > 0.0 else y0) + margin
+    first = np.floor(lo + 0.5)  # a float: an infinite or NaN box is no integer
+    return first, np.floor(hi + 0.5) - first + 1.0
+
+
+def _box_hit(path_box, hit_in_cell, compile):
+    @(inlined(True) if compile is jit else compile)
+    def box_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, t_limit, extent_tol):
+        x0, y0, x1, y1 = path_box(F)
+        lo1, n1 = _cell_range(B[0, 0], B[0, 1], x0, y0, x1, y1, extent_tol * (abs(B[0, 0]) + abs(B[0, 1])))
+        lo2, n2 = _cell_range(B[1, 0], B[1, 1], x0, y0, x1, y1, extent_tol * (abs(B[1, 0]) + abs(B[1, 1])))
+        if not n1 * n2 * copies.shape[0] <= BOX_COPIES:  # a large or unbounded box (NaN too): walk
+            return INF, -1, 0, 0, 2
+        best_t = t_limit
+        best_e = -1
+        best_o1 = 0
+        best_o2 = 0
+        for i in range(int(n1)):
+            for j in range(int(n2)):
+                t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, int(lo1) + i, int(lo2) + j, F, cur_e, cur_o1,
+                                           cur_o2, best_t, extent_tol, 0.0, True)
+                if e == SEARCH_FAILED:
+                    return GAVE_UP, SEARCH_FAILED, 0, 0, 3
+                if e >= 0 and (best_e < 0 or t < best_t):
+                    best_t = t
+                    best_e = e
+                    best_o1 = o1
+                    best_o2 = o2
+        if best_e < 0:
+            return INF, -1, 0, 0, 1
+        return best_t, best_e, best_o1, best_o2, 0
+
+    return box_hit
 
 
 @functools.cache
