@@ -51,12 +51,18 @@ GRAZE_ULPS = 16.0
 # ---------------------------------------------------------------------------- the path
 @jit(inline="always")
 def turn(W, t):
-    """``(S, Q, cos(W t), sin(W t))`` with ``S = sin(W t)/W`` and ``Q = (1 - cos(W t))/W`` (``W = 0``: ``t, 0``)."""
+    """``(S, Q, cos(W t), sin(W t))`` with ``S = sin(W t)/W`` and ``Q = (1 - cos(W t))/W`` (``W = 0``: ``t, 0``).
+
+    From the half angle's sine ``h`` and cosine ``k`` alone: ``sin = 2 h k``, ``cos = (k - h)(k + h)``,
+    ``1 - cos = 2 h^2`` (two calls, not three: 4 to 7 % of a magnetic collision; benchmarks/RESULTS.md).
+    """
     th = W * t
     if abs(th) < SERIES_ANGLE:
         return t * (1.0 - th * th / 6.0), 0.5 * t * th, 1.0 - 0.5 * th * th, th
     h = math.sin(0.5 * th)
-    return math.sin(th) / W, 2.0 * h * h / W, math.cos(th), math.sin(th)
+    k = math.cos(0.5 * th)
+    sn = 2.0 * h * k
+    return sn / W, 2.0 * h * h / W, (k - h) * (k + h), sn
 
 
 @jit(inline="always")
