@@ -163,16 +163,17 @@ def free_land(WALLS, FALLING):
 
 # ---------------------------------------------------------------------------- closed-form flights
 @functools.cache
-def closed_form_search(flight, pinning, OPEN_ENDS):
+def closed_form_search(flight, pinning, LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS):
     """A closed-form flight's next hit (:func:`search.event_search`); ``pinning``: its path is closed (one period
     ``pin`` searched at most, on a lattice over the cells its box covers where they are few,
-    :func:`search.box_search`; a miss is a path that meets nothing); ``OPEN_ENDS`` as for free flight."""
+    :func:`search.box_search`; a miss is a path that meets nothing); ``LATTICE_*``, ``OPEN_ENDS`` as for free
+    flight (a plain table compiles no walk)."""
     hit_in_cell, walk_hit, _ = event_search(flight, open_ends=OPEN_ENDS)
     box_hit = box_search(flight, open_ends=OPEN_ENDS) if pinning else None
 
     @jit(inline="always")
     def search(kinds, params, copies, A, B, lattice, F, cur_e, cur_o1, cur_o2, limit, extent_tol, pin, top):
-        if lattice:
+        if LATTICE_ALWAYS or (LATTICE_RT and lattice):
             limit = min(limit, pin)
             status = 2
             if pinning:  # a closed path over a few cells: search them all
@@ -242,10 +243,13 @@ def choose_flight(switches, LATTICE_ALWAYS, LATTICE_RT, WALLS, OPEN_ENDS):
     FORCE_RT, FORCE, THERMO_ANY, THERMO_ALWAYS, _, MAG_ANY, MAG_ALWAYS, _ = switches
     straight, falling = (flight_step(_free_begin, _free_level, free_search(LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS, f),
                                      free_flight.free_flight(f).state_at, free_land(WALLS, f)) for f in (False, True))
-    thermostatted = flight_step(_thermo_begin, _thermo_level, closed_form_search(thermo_flight, False, OPEN_ENDS),
-                                thermo_flight.state_at, closed_form_land(thermo_flight, WALLS))
-    magnetic = flight_step(_magnetic_begin, _magnetic_level, closed_form_search(magnetic_flight, True, OPEN_ENDS),
-                           magnetic_flight.state_at, closed_form_land(magnetic_flight, WALLS))
+    thermostatted = flight_step(
+        _thermo_begin, _thermo_level, closed_form_search(thermo_flight, False, LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS),
+        thermo_flight.state_at, closed_form_land(thermo_flight, WALLS))
+    magnetic = flight_step(
+        _magnetic_begin, _magnetic_level, closed_form_search(magnetic_flight, True, LATTICE_ALWAYS, LATTICE_RT,
+                                                             OPEN_ENDS),
+        magnetic_flight.state_at, closed_form_land(magnetic_flight, WALLS))
 
     @jit(inline="always")
     def fly(thermo, mag, kinds, params, copies, A, B, lattice, x, y, vx, vy, ax, ay, has_force, E, W, pin, cur_e,
