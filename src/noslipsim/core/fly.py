@@ -167,7 +167,7 @@ def closed_form_search(flight, pinning, LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS):
     """A closed-form flight's next hit (:func:`search.event_search`); ``pinning``: its path is closed (one period
     ``pin`` searched at most, on a lattice over the cells its box covers where they are few,
     :func:`search.box_search`; a miss is a path that meets nothing); ``LATTICE_*``, ``OPEN_ENDS`` as for free
-    flight (a plain table compiles no walk)."""
+    flight (a plain table compiles no walk); no copy above ``top``, a bounded lattice's top."""
     hit_in_cell, walk_hit, _ = event_search(flight, open_ends=OPEN_ENDS)
     box_hit = box_search(flight, open_ends=OPEN_ENDS) if pinning else None
 
@@ -178,10 +178,10 @@ def closed_form_search(flight, pinning, LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS):
             status = 2
             if pinning:  # a closed path over a few cells: search them all
                 t_hit, e, o1, o2, status = box_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, limit,
-                                                   extent_tol)
+                                                   extent_tol, top)
             if status == 2:
                 t_hit, e, o1, o2, status = walk_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, limit,
-                                                    extent_tol, MAX_CELLS_PER_FLIGHT)
+                                                    extent_tol, MAX_CELLS_PER_FLIGHT, top)
             if pinning:
                 return t_hit, e, o1, o2, status == 2, status == 1 and limit == pin, False
             return t_hit, e, o1, o2, status == 2 or (status == 1 and limit == INF), False, e == SEARCH_FAILED

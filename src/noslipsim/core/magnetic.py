@@ -54,7 +54,7 @@ def turn(W, t):
     """``(S, Q, cos(W t), sin(W t))`` with ``S = sin(W t)/W`` and ``Q = (1 - cos(W t))/W`` (``W = 0``: ``t, 0``).
 
     From the half angle's sine ``h`` and cosine ``k`` alone: ``sin = 2 h k``, ``cos = (k - h)(k + h)``,
-    ``1 - cos = 2 h^2`` (two calls, not three: 4 to 7 % of a magnetic collision; benchmarks/RESULTS.md).
+    ``1 - cos = 2 h^2`` (two calls, not three: 2 to 7 % of a magnetic collision; benchmarks/RESULTS.md).
     """
     th = W * t
     if abs(th) < SERIES_ANGLE:

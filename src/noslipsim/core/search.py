@@ -181,9 +181,10 @@ def event_search(flight, compile=jit, open_ends=True):
 
     ``hit_in_cell``: :func:`cell_search`'s (``open_ends`` as there).
 
-    ``walk_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells)``: the
-    earliest hit in a periodic scene; ``(t, element, o1, o2, status)``, status 0 hit, 1 past ``t_limit``,
-    2 past ``max_cells`` cells, 3 a search gave up.
+    ``walk_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells,
+    ceiling=inf)``: the earliest hit in a periodic scene (``ceiling``: a bounded lattice's top, as for
+    ``hit_in_cell``); ``(t, element, o1, o2, status)``, status 0 hit, 1 past ``t_limit``, 2 past ``max_cells``
+    cells, 3 a search gave up.
 
     ``exact_line_hit(kind, p, F, sx, sy, deflated, t, hx, hy, px, py, vx, vy)``: a hit far along a long wall
     redone from the exact distances (:func:`events.exact_line_hit`); ``(t, px, py, vx, vy)``.
@@ -215,7 +216,8 @@ def _strip_exit(face_exit, compile):
 def _walk_hit(start, hit_in_cell, strip_exit, compile):
     # inlined into the event loop: out of line, its array arguments are copied each collision (cells.lattice_walk)
     @(inlined(True) if compile is jit else compile)
-    def walk_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells):
+    def walk_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, t_limit, extent_tol, max_cells,
+                 ceiling=INF):
         x0, y0 = start(F)
         a0, b0 = lattice_coordinates(B, x0, y0)
         d1 = 0
@@ -226,7 +228,7 @@ def _walk_hit(start, hit_in_cell, strip_exit, compile):
         for _ in range(max_cells):
             t_out = min(ta, tb)
             t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, d1, d2, F, cur_e, cur_o1, cur_o2, t_out,
-                                       extent_tol, t_in, True)
+                                       extent_tol, t_in, True, ceiling)
             if e >= 0:
                 return t, e, o1, o2, 0
             if e == SEARCH_FAILED:
@@ -253,8 +255,9 @@ BOX_COPIES = 16
 
 @functools.cache
 def box_search(flight, compile=jit, open_ends=True):
-    """``box_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, t_limit, extent_tol)`` for a flight whose
-    path is closed: the earliest hit over every cell its box covers, without a walk.
+    """``box_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, t_limit, extent_tol, ceiling=inf)`` for a
+    flight whose path is closed: the earliest hit over every cell its box covers, without a walk (``ceiling`` as
+    for ``hit_in_cell``).
 
     ``flight.path_box(F)``: ``(x0, y0, x1, y1)``, a box the whole path stays in (infinite: none).  A closed path
     meets each copy at one exit root per period, so the earliest over the copies of the cells it covers, each
@@ -276,7 +279,7 @@ def _cell_range(b1, b2, x0, y0, x1, y1, margin):
 
 def _box_hit(path_box, hit_in_cell, compile):
     @(inlined(True) if compile is jit else compile)
-    def box_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, t_limit, extent_tol):
+    def box_hit(kinds, params, copies, A, B, F, cur_e, cur_o1, cur_o2, t_limit, extent_tol, ceiling=INF):
         x0, y0, x1, y1 = path_box(F)
         lo1, n1 = _cell_range(B[0, 0], B[0, 1], x0, y0, x1, y1, extent_tol * (abs(B[0, 0]) + abs(B[0, 1])))
         lo2, n2 = _cell_range(B[1, 0], B[1, 1], x0, y0, x1, y1, extent_tol * (abs(B[1, 0]) + abs(B[1, 1])))
@@ -289,7 +292,7 @@ def _box_hit(path_box, hit_in_cell, compile):
         for i in range(int(n1)):
             for j in range(int(n2)):
                 t, e, o1, o2 = hit_in_cell(kinds, params, copies, A, int(lo1) + i, int(lo2) + j, F, cur_e, cur_o1,
-                                           cur_o2, best_t, extent_tol, 0.0, True)
+                                           cur_o2, best_t, extent_tol, 0.0, True, ceiling)
                 if e == SEARCH_FAILED:
                     return GAVE_UP, SEARCH_FAILED, 0, 0, 3
                 if e >= 0 and (best_e < 0 or t < best_t):
