@@ -63,10 +63,12 @@ def test_sinai_torus_against_the_twin(W):
     _agree(torus, (0.0, 0.45), (1.0, 0.3), 0.0, 12, tol=1e-9)
 
 
-def test_box_search_finds_the_walks_hit():
+@pytest.mark.parametrize("scene, r", [(tables.sinai_torus(0.2), 0.2), (tables.hex_lorentz_cell(0.3), 0.3)],
+                         ids=["square", "hexagonal"])
+def test_box_search_finds_the_walks_hit(scene, r):
     """A closed path over a few cells searches them all (search.box_search); the walk its faces: the same copy,
     the same time to rounding, pinned alike; a box over more than BOX_COPIES copies is left to the walk."""
-    table = kernel_table(tables.sinai_torus(0.2))
+    table = kernel_table(scene)
     kinds, params, copies, A, B = table.arrays()[:5]
     tol = EXTENT_TOL * table.scale
     box_hit = search.box_search(magnetic_flight)
@@ -75,22 +77,23 @@ def test_box_search_finds_the_walks_hit():
     searched = pinned = 0
     for _ in range(300):
         W = rng.choice([-1, 1]) * 10 ** rng.uniform(-1.5, 1.0)
-        x, y = rng.uniform(-0.5, 0.5, 2)
+        x, y = A @ rng.uniform(-0.5, 0.5, 2)  # in the start's cell
         a = rng.uniform(0, 2 * math.pi)
         F = (x, y, math.cos(a), math.sin(a), W)
-        if math.hypot(x, y) < 0.21:
-            continue
+        if np.hypot(*(np.array([x, y])[:, None] - A @ np.mgrid[-1:2, -1:2].reshape(2, -1))).min() < r + 0.01:
+            continue  # in a disk
         period = 2 * math.pi / abs(W)
         got = box_hit(kinds, params, copies, A, B, F, -1, 0, 0, period, tol)
         want = walk_hit(kinds, params, copies, A, B, F, -1, 0, 0, period, tol, MAX_CELLS_PER_FLIGHT)
-        if got[4] == 2:  # the box is too large: nothing searched
-            assert (2 / abs(W) + 1) ** 2 > search.BOX_COPIES and got[:4] == (math.inf, -1, 0, 0)
+        if got[4] == 2:  # the box is too large: nothing searched (its cells are at most 2 rho |b_i|_1 + 2 a side)
+            sides = 2.0 * 1.001 / abs(W) * np.abs(B).sum(axis=1) + 2.0
+            assert sides.prod() * len(copies) > search.BOX_COPIES and got[:4] == (math.inf, -1, 0, 0)
             continue
         searched += 1
         pinned += got[4] == 1
         assert got[1:] == want[1:]
         assert got[0] == pytest.approx(want[0], rel=1e-12)
-    assert searched > 100 and 0 < pinned < searched
+    assert searched > 60 and 0 < pinned < searched
 
 
 @pytest.mark.parametrize("W, q", [(2.0, (0.5, 1.5)), (0.1, (0.5, 30.5))], ids=["box search", "walk"])
