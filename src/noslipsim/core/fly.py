@@ -162,14 +162,20 @@ def free_land(WALLS, FALLING):
 
 
 # ---------------------------------------------------------------------------- closed-form flights
+#: :func:`jit` out of line, as a decorator the searches do not read as "inline where the flight says".
+_OUT_OF_LINE = functools.partial(jit)
+
 @functools.cache
 def closed_form_search(flight, pinning, LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS):
     """A closed-form flight's next hit (:func:`search.event_search`); ``pinning``: its path is closed (one period
     ``pin`` searched at most, on a lattice over the cells its box covers where they are few,
     :func:`search.box_search`; a miss is a path that meets nothing); ``LATTICE_*``, ``OPEN_ENDS`` as for free
     flight (a plain table compiles no walk); no copy above ``top``, a bounded lattice's top."""
-    hit_in_cell, walk_hit, _ = event_search(flight, open_ends=OPEN_ENDS)
-    box_hit = box_search(flight, open_ends=OPEN_ENDS) if pinning else None
+    # a lattice read at run time (the general kernel: tests and ablations) calls the searches out of line: the
+    # same bits for a fraction of the compile
+    compile = _OUT_OF_LINE if LATTICE_RT else jit
+    hit_in_cell, walk_hit, _ = event_search(flight, compile=compile, open_ends=OPEN_ENDS)
+    box_hit = box_search(flight, compile=compile, open_ends=OPEN_ENDS) if pinning else None
 
     @jit(inline="always")
     def search(kinds, params, copies, A, B, lattice, F, cur_e, cur_o1, cur_o2, limit, extent_tol, pin, top):
