@@ -22,7 +22,7 @@ from . import free_flight, magnetic_flight, thermo_flight
 from .cells import FAR_CELLS, far_hit_point, lattice_walk
 from .events import exact_line_hit
 from .geometry import copy_shift, place_on_element
-from .jit import jit
+from .jit import OUT_OF_LINE, jit
 from .layout import LONG_WALL, STOP_ESCAPE, STOP_LEVEL, STOP_MAX_TIME, STOP_PINNED, STOP_SEARCH_LIMIT
 from .magnetic import period as magnetic_period
 from .roots import quadratic_exit
@@ -162,9 +162,6 @@ def free_land(WALLS, FALLING):
 
 
 # ---------------------------------------------------------------------------- closed-form flights
-#: :func:`jit` out of line, as a decorator the searches do not read as "inline where the flight says".
-_OUT_OF_LINE = functools.partial(jit)
-
 @functools.cache
 def closed_form_search(flight, pinning, LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS):
     """A closed-form flight's next hit (:func:`search.event_search`); ``pinning``: its path is closed (one period
@@ -173,7 +170,7 @@ def closed_form_search(flight, pinning, LATTICE_ALWAYS, LATTICE_RT, OPEN_ENDS):
     flight (a plain table compiles no walk); no copy above ``top``, a bounded lattice's top."""
     # a lattice read at run time (the general kernel: tests and ablations) calls the searches out of line: the
     # same bits for a fraction of the compile
-    compile = _OUT_OF_LINE if LATTICE_RT else jit
+    compile = OUT_OF_LINE if LATTICE_RT else jit
     hit_in_cell, walk_hit, _ = event_search(flight, compile=compile, open_ends=OPEN_ENDS)
     box_hit = box_search(flight, compile=compile, open_ends=OPEN_ENDS) if pinning else None
 

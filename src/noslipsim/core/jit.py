@@ -146,7 +146,14 @@ def jit(func=None, **overrides):
     return _compile(func, options)
 
 
+#: :func:`jit` inlined at every call site (``inline="always"``).
+INLINE_ALWAYS = functools.partial(jit, inline="always")
+#: :func:`jit` out of line, as a decorator of its own: a factory that takes ``compile=jit`` to mean "as the
+#: flight says" (:func:`search.cell_search`) compiles out of line when passed this.
+OUT_OF_LINE = functools.partial(jit)
+
+
 def inlined(inline):
-    """The decorator of a factory's instance: :func:`jit` inlined at every call site (``inline="always"``)
-    where ``inline`` (a walk near the loop), else :func:`jit` itself (out of line: a far walk few flights take)."""
-    return functools.partial(jit, inline="always") if inline else jit
+    """The decorator of a factory's instance: :data:`INLINE_ALWAYS` where ``inline`` (a walk near the loop),
+    else :data:`OUT_OF_LINE` (a far walk few flights take)."""
+    return INLINE_ALWAYS if inline else OUT_OF_LINE
